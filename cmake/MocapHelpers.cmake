@@ -1,0 +1,56 @@
+# Target helpers in the style of COLMAP_ADD_*: every module is one library with warnings on.
+
+function(mocap_set_warnings target)
+  target_compile_options(${target} PRIVATE -Wall -Wextra -Wpedantic)
+  if(MOCAP_WERROR)
+    target_compile_options(${target} PRIVATE -Werror)
+  endif()
+endfunction()
+
+if(MOCAP_SANITIZE)
+  add_compile_options(-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined)
+  add_link_options(-fsanitize=address,undefined)
+endif()
+
+# mocap_add_library(NAME name SRCS ... DEPS ... [PRIVATE_DEPS ...])
+# Headers are included as "<module>/<file>.h" relative to src/ (or the top level for capture/, exporters/).
+function(mocap_add_library)
+  cmake_parse_arguments(ARG "" "NAME" "SRCS;DEPS;PRIVATE_DEPS" ${ARGN})
+  add_library(${ARG_NAME} STATIC ${ARG_SRCS})
+  target_include_directories(${ARG_NAME} PUBLIC ${CMAKE_SOURCE_DIR}/src ${CMAKE_SOURCE_DIR})
+  target_link_libraries(${ARG_NAME} PUBLIC ${ARG_DEPS} PRIVATE ${ARG_PRIVATE_DEPS})
+  set_target_properties(${ARG_NAME} PROPERTIES POSITION_INDEPENDENT_CODE ON)
+  mocap_set_warnings(${ARG_NAME})
+endfunction()
+
+# mocap_add_test(NAME module_what SRCS ... DEPS ... LABELS ...)
+# Registers each GoogleTest case with ctest as "module/Suite.Case" with the given labels.
+function(mocap_add_test)
+  cmake_parse_arguments(ARG "" "NAME" "SRCS;DEPS;LABELS" ${ARGN})
+  add_executable(${ARG_NAME} ${ARG_SRCS})
+  target_link_libraries(${ARG_NAME} PRIVATE ${ARG_DEPS} GTest::gtest GTest::gmock GTest::gtest_main)
+  target_compile_definitions(${ARG_NAME} PRIVATE
+    MOCAP_SHARED_DIR="${MOCAP_SHARED_DIR}" MOCAP_SOURCE_DIR="${CMAKE_SOURCE_DIR}"
+    MOCAP_BINARY_DIR="${CMAKE_BINARY_DIR}")
+  mocap_set_warnings(${ARG_NAME})
+  gtest_discover_tests(${ARG_NAME} TEST_PREFIX "${ARG_NAME}/" PROPERTIES LABELS "${ARG_LABELS}"
+                       DISCOVERY_TIMEOUT 60)
+endfunction()
+
+function(mocap_add_executable)
+  cmake_parse_arguments(ARG "" "NAME;OUTPUT_NAME" "SRCS;DEPS" ${ARGN})
+  add_executable(${ARG_NAME} ${ARG_SRCS})
+  target_link_libraries(${ARG_NAME} PRIVATE ${ARG_DEPS})
+  if(ARG_OUTPUT_NAME)
+    set_target_properties(${ARG_NAME} PROPERTIES OUTPUT_NAME ${ARG_OUTPUT_NAME})
+  endif()
+  mocap_set_warnings(${ARG_NAME})
+endfunction()
+
+function(mocap_add_benchmark)
+  cmake_parse_arguments(ARG "" "NAME" "SRCS;DEPS" ${ARGN})
+  add_executable(${ARG_NAME} ${ARG_SRCS})
+  target_link_libraries(${ARG_NAME} PRIVATE ${ARG_DEPS} benchmark::benchmark)
+  target_compile_definitions(${ARG_NAME} PRIVATE MOCAP_SHARED_DIR="${MOCAP_SHARED_DIR}")
+  mocap_set_warnings(${ARG_NAME})
+endfunction()

@@ -1,0 +1,13 @@
+#include "cli/command.h"
+#include "cli/commands.h"
+
+namespace mocap::cli {
+
+const std::vector<Command>& AllCommands() {
+  static const std::vector<Command> commands = {
+      {"version", "print the version", RunVersion},
+  };
+  return commands;
+}
+
+}  // namespace mocap::cli

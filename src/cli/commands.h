@@ -1,0 +1,7 @@
+#pragma once
+// The entry point of each subcommand; each is defined in its cmd_<name>.cc.
+namespace mocap::cli {
+
+int RunVersion(int argc, char** argv);
+
+}  // namespace mocap::cli

@@ -1,0 +1,82 @@
+#include "core/camera.h"
+
+#include "core/check.h"
+
+namespace mocap {
+
+void PinholeCamera::check() const {
+  if (width <= 0 || height <= 0) throw InputError("camera", Str("image size ", width, "x", height, " is not positive"));
+  if (!(fx > 0) || !(fy > 0)) throw InputError("camera", Str("focal lengths fx=", fx, " fy=", fy, " must be positive"));
+}
+
+bool PinholeCamera::has_distortion() const {
+  for (double d : dist)
+    if (d != 0.0) return true;
+  return false;
+}
+
+Eigen::Matrix3d PinholeCamera::K() const {
+  Eigen::Matrix3d k;
+  k << fx, 0, cx, 0, fy, cy, 0, 0, 1;
+  return k;
+}
+
+Eigen::Vector2d PinholeCamera::Distort(const Eigen::Vector2d& xy) const {
+  // OpenCV's model (calib3d "Detailed description"): radial rational term and tangential p1, p2.
+  const auto& [k1, k2, p1, p2, k3, k4, k5, k6] = dist;
+  const double x = xy.x(), y = xy.y();
+  const double r2 = x * x + y * y, r4 = r2 * r2, r6 = r4 * r2;
+  const double radial = (1 + k1 * r2 + k2 * r4 + k3 * r6) / (1 + k4 * r2 + k5 * r4 + k6 * r6);
+  return {x * radial + 2 * p1 * x * y + p2 * (r2 + 2 * x * x), y * radial + p1 * (r2 + 2 * y * y) + 2 * p2 * x * y};
+}
+
+Eigen::Vector2d PinholeCamera::Undistort(const Eigen::Vector2d& xy_distorted) const {
+  if (!has_distortion()) return xy_distorted;
+  Eigen::Vector2d xy = xy_distorted;
+  for (int i = 0; i < 20; ++i) xy += xy_distorted - Distort(xy);
+  return xy;
+}
+
+std::optional<Eigen::Vector2d> PinholeCamera::Project(const Eigen::Vector3d& point_camera) const {
+  if (point_camera.z() <= 0) return std::nullopt;
+  const Eigen::Vector2d d = Distort(point_camera.head<2>() / point_camera.z());
+  return Eigen::Vector2d(fx * d.x() + cx, fy * d.y() + cy);
+}
+
+Eigen::Vector3d PinholeCamera::Ray(const Eigen::Vector2d& pixel) const {
+  const Eigen::Vector2d xy = Undistort({(pixel.x() - cx) / fx, (pixel.y() - cy) / fy});
+  return {xy.x(), xy.y(), 1.0};
+}
+
+Eigen::Vector3d PinholeCamera::Unproject(const Eigen::Vector2d& pixel, double z_m) const { return Ray(pixel) * z_m; }
+
+std::vector<Eigen::Vector3d> DepthToPoints(const DepthImage& depth_m, const PinholeCamera& camera,
+                                           std::vector<Eigen::Vector2i>* pixels) {
+  MOCAP_CHECK(depth_m.width == camera.width && depth_m.height == camera.height, "depth ", depth_m.width, "x",
+              depth_m.height, " does not match camera ", camera.width, "x", camera.height);
+  std::vector<Eigen::Vector3d> points;
+  points.reserve(depth_m.data.size() / 2);
+  if (pixels) pixels->clear();
+  for (int v = 0; v < depth_m.height; ++v) {
+    for (int u = 0; u < depth_m.width; ++u) {
+      const float z = depth_m.at(u, v);
+      if (!(z > 0.0f)) continue;
+      points.push_back(camera.Unproject({u, v}, z));
+      if (pixels) pixels->emplace_back(u, v);
+    }
+  }
+  return points;
+}
+
+std::vector<Eigen::Vector3d> DepthToPointsMasked(const DepthImage& depth_m, const PinholeCamera& camera,
+                                                 const LabelImage& mask, uint16_t label) {
+  MOCAP_CHECK(mask.width == depth_m.width && mask.height == depth_m.height, "mask size differs from depth size");
+  MOCAP_CHECK(label != 0, "label 0 is the background");
+  std::vector<Eigen::Vector3d> points;
+  for (int v = 0; v < depth_m.height; ++v)
+    for (int u = 0; u < depth_m.width; ++u)
+      if (mask.at(u, v) == label && depth_m.at(u, v) > 0.0f) points.push_back(camera.Unproject({u, v}, depth_m.at(u, v)));
+  return points;
+}
+
+}  // namespace mocap
