@@ -1,5 +1,7 @@
 #include "core/camera.h"
 
+#include <Eigen/LU>
+
 #include "core/check.h"
 
 namespace mocap {
@@ -32,8 +34,18 @@ Eigen::Vector2d PinholeCamera::Distort(const Eigen::Vector2d& xy) const {
 
 Eigen::Vector2d PinholeCamera::Undistort(const Eigen::Vector2d& xy_distorted) const {
   if (!has_distortion()) return xy_distorted;
+  // Newton's method on Distort(xy) = xy_distorted with a central-difference Jacobian: the fixed-point
+  // iteration of cv::undistortPoints stalls near the corners of strongly distorted lenses.
   Eigen::Vector2d xy = xy_distorted;
-  for (int i = 0; i < 20; ++i) xy += xy_distorted - Distort(xy);
+  constexpr double h = 1e-7;
+  for (int i = 0; i < 20; ++i) {
+    const Eigen::Vector2d residual = Distort(xy) - xy_distorted;
+    if (residual.norm() < 1e-15) break;
+    Eigen::Matrix2d J;
+    J.col(0) = (Distort(xy + Eigen::Vector2d(h, 0)) - Distort(xy - Eigen::Vector2d(h, 0))) / (2 * h);
+    J.col(1) = (Distort(xy + Eigen::Vector2d(0, h)) - Distort(xy - Eigen::Vector2d(0, h))) / (2 * h);
+    xy -= J.partialPivLu().solve(residual);
+  }
   return xy;
 }
 

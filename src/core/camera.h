@@ -24,7 +24,7 @@ struct PinholeCamera {
 
   /// Normalised undistorted coordinates (x/z, y/z) to distorted normalised coordinates.
   Eigen::Vector2d Distort(const Eigen::Vector2d& xy) const;
-  /// Inverse of Distort by fixed-point iteration (as cv::undistortPoints), 20 iterations.
+  /// Inverse of Distort (Newton iterations to 1e-15), within the region where the model is monotonic.
   Eigen::Vector2d Undistort(const Eigen::Vector2d& xy_distorted) const;
 
   /// Pixel of a point in camera coordinates (metres). Empty when z <= 0.
