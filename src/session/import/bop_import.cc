@@ -1,0 +1,168 @@
+#include "session/import/bop_import.h"
+
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <set>
+
+#include "core/check.h"
+#include "session/import/bop_scene.h"
+#include "session/writer.h"
+
+namespace mocap::import {
+namespace {
+
+// Frames sharing one exact camera model and depth scale.
+struct CameraGroup {
+  std::string camera, tracker;
+  std::vector<const BopFrame*> frames;
+  std::vector<std::string> bodies;  // sorted
+};
+
+bool SameCamera(const BopFrame& a, const BopFrame& b) {
+  return a.camera.fx == b.camera.fx && a.camera.fy == b.camera.fy && a.camera.cx == b.camera.cx &&
+         a.camera.cy == b.camera.cy && a.camera.width == b.camera.width && a.camera.height == b.camera.height &&
+         a.depth_scale_mm == b.depth_scale_mm;
+}
+
+std::vector<CameraGroup> GroupFrames(const BopScene& scene) {
+  std::vector<CameraGroup> groups;
+  for (const auto& frame : scene.frames) {
+    auto it = std::find_if(groups.begin(), groups.end(), [&](const auto& g) { return SameCamera(*g.frames.front(), frame); });
+    if (it == groups.end()) {
+      const std::string suffix = groups.empty() ? "" : Str("_", groups.size());
+      groups.push_back({"bop" + suffix, "objects" + suffix, {}, {}});
+      it = groups.end() - 1;
+    }
+    it->frames.push_back(&frame);
+  }
+  for (auto& g : groups) {
+    std::set<std::string> bodies;
+    for (const auto* f : g.frames)
+      for (const auto& o : f->objects) bodies.insert(BopBodyName(o.obj_id, o.instance));
+    g.bodies.assign(bodies.begin(), bodies.end());
+  }
+  return groups;
+}
+
+int64_t StampNs(int im_id, double rate_hz) { return std::llround(static_cast<double>(im_id) * 1e9 / rate_hz); }
+
+nlohmann::json ObjectList(const BopScene& scene) {
+  nlohmann::json objects = nlohmann::json::array();
+  for (const auto& model : scene.models) {
+    nlohmann::json bodies = nlohmann::json::array();
+    int instances = 0;
+    for (const auto& f : scene.frames)
+      instances = std::max(instances, static_cast<int>(std::count_if(f.objects.begin(), f.objects.end(),
+                                                                      [&](const auto& o) { return o.obj_id == model.obj_id; })));
+    for (int k = 0; k < instances; ++k) bodies.push_back(BopBodyName(model.obj_id, k));
+    objects.push_back({{"id", model.obj_id}, {"name", BopObjectName(model.obj_id)}, {"mesh", model.mesh.string()},
+                       {"unit", "mm"}, {"diameter_m", model.diameter_m}, {"tracker_bodies", bodies}});
+  }
+  return objects;
+}
+
+void WriteObjectsYaml(const std::filesystem::path& file, const nlohmann::json& objects, const std::string& source) {
+  YAML::Emitter out;
+  out << YAML::Comment("Objects of " + source + " (BOP obj_id, mesh in mm; T_body_mesh is identity)");
+  out << YAML::BeginMap << YAML::Key << "objects" << YAML::Value << YAML::BeginSeq;
+  for (const auto& o : objects) {
+    out << YAML::BeginMap;
+    out << YAML::Key << "id" << YAML::Value << o["id"].get<int>();
+    out << YAML::Key << "name" << YAML::Value << o["name"].get<std::string>();
+    out << YAML::Key << "mesh" << YAML::Value << o["mesh"].get<std::string>();
+    out << YAML::Key << "unit" << YAML::Value << "mm";
+    out << YAML::Key << "diameter_m" << YAML::Value << o["diameter_m"].get<double>();
+    out << YAML::Key << "tracker_bodies" << YAML::Value << YAML::Flow << o["tracker_bodies"].get<std::vector<std::string>>();
+    out << YAML::EndMap;
+  }
+  out << YAML::EndSeq << YAML::EndMap;
+  std::ofstream stream(file);
+  stream << out.c_str() << "\n";
+  if (!stream) throw InputError(file.string(), "cannot write objects.yaml");
+}
+
+void WriteGroup(SessionWriter& writer, const CameraGroup& group, const BopImportOptions& options, ImportSummary& summary) {
+  std::map<std::string, std::vector<TrackerRecord>> by_body;
+  for (const auto* f : group.frames) {
+    CameraFrameRecord record;
+    record.frame = f->im_id;
+    record.stamp_ns = StampNs(f->im_id, options.frame_rate_hz);
+    record.source_id = std::to_string(f->im_id);
+    writer.AddCameraFrameFiles(group.camera, record, f->rgb, f->depth);
+    ++summary.camera_records;
+    summary.frames_with_color_and_depth += !f->depth.empty();
+    summary.frames_color_only += f->depth.empty();
+    for (const auto& body : group.bodies) {
+      TrackerRecord r;
+      r.body = body;
+      r.status = PoseStatus::kMissing;  // not annotated in this frame unless found below
+      r.device_frame = f->im_id;
+      r.stamp_ns = record.stamp_ns;
+      for (const auto& o : f->objects)
+        if (BopBodyName(o.obj_id, o.instance) == body) {
+          r.status = PoseStatus::kValid;
+          r.T_frame_body = o.T_camera_object;
+        }
+      by_body[body].push_back(r);
+    }
+  }
+  // Known poses sit exactly at frame times; no gap between frames is a tracker dropout.
+  const int64_t no_gap_limit = std::numeric_limits<int64_t>::max();
+  for (const auto& [body, records] : by_body) WriteBodySamples(writer, group.tracker, records, no_gap_limit, summary);
+}
+
+}  // namespace
+
+void BopImportOptions::check() const {
+  if (!(frame_rate_hz > 0) || !std::isfinite(frame_rate_hz))
+    throw InputError("BopImportOptions", "frame_rate_hz must be positive");
+}
+
+std::string BopBodyName(int obj_id, int instance) {
+  return instance == 0 ? BopObjectName(obj_id) : Str(BopObjectName(obj_id), "_inst", instance);
+}
+
+ImportSummary ImportBop(const std::filesystem::path& scene_dir, const std::filesystem::path& models_dir,
+                        const std::filesystem::path& out, const BopImportOptions& options) {
+  options.check();
+  CheckOutputFolder(out);
+  const BopScene scene = ReadBopScene(scene_dir, models_dir);
+  if (scene.frames.empty()) throw InputError(scene_dir.string(), "no annotated frame has a colour image in rgb/");
+  const auto groups = GroupFrames(scene);
+  SessionManifest manifest;
+  manifest.software_version = options.software_version;
+  manifest.source = "import bop " + scene.dir.lexically_normal().string();
+  for (const auto& g : groups) {
+    CameraStreamInfo camera;
+    camera.name = g.camera;
+    camera.model = "bop";
+    camera.color_camera = g.frames.front()->camera;
+    camera.depth_camera = g.frames.front()->camera;  // BOP depth is aligned with the colour image
+    camera.depth_unit_m = g.frames.front()->depth_scale_mm * 1e-3;
+    manifest.cameras.push_back(camera);
+    manifest.trackers.push_back({g.tracker, "bop_ground_truth", "", "camera:" + g.camera, g.bodies});
+  }
+  const nlohmann::json objects = ObjectList(scene);
+  manifest.extra["objects"] = objects;
+  manifest.extra["bop"] = {{"scene_id", scene.scene_id}, {"models_dir", std::filesystem::absolute(models_dir).lexically_normal().string()},
+                           {"annotated_frames", scene.annotated_frames}, {"frames_without_rgb", scene.frames_without_rgb},
+                           {"synthetic_frame_rate_hz", options.frame_rate_hz}};
+
+  ImportSummary summary;
+  summary.session = out;
+  summary.notes.push_back(Str(scene.frames_without_rgb, " annotated frames have no colour image and were skipped"));
+  summary.notes.push_back(Str("stamps are synthetic: im_id at ", options.frame_rate_hz, " Hz"));
+  if (groups.size() > 1) summary.notes.push_back(Str("cam_K varies: ", groups.size(), " cameras, one per distinct K"));
+  auto writer = SessionWriter::Create(out, manifest);
+  WriteObjectsYaml(out / "objects.yaml", objects, manifest.source);
+  for (const auto& g : groups) WriteGroup(*writer, g, options, summary);
+  writer->Close();
+  return summary;
+}
+
+}  // namespace mocap::import
