@@ -85,6 +85,7 @@ FrameLookup FrameGraph::Lookup(const std::string& a, const std::string& b, int64
       const InterpolatedPose ip = InterpolatePose(edge->samples, stamp_ns, options_);
       if (!ip.ok()) {
         out.failure = ip.failure;
+        out.neighbour_status = ip.neighbour_status;
         out.reason = Str("'", edge->child, "' in '", edge->parent, "': ", ip.reason());
         return out;
       }

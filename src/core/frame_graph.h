@@ -19,6 +19,7 @@ struct FrameLookup {
   /// When T_a_b is empty: which edge failed and why (no path, or the interpolation's reason).
   std::string reason;
   InterpolationFailure failure = InterpolationFailure::kNone;
+  PoseStatus neighbour_status = PoseStatus::kValid;  ///< the offending status for kNeighbourInvalid
   int64_t max_gap_ns = 0;  ///< the longest interpolation gap used along the chain
   bool ok() const { return T_a_b.has_value(); }
 };

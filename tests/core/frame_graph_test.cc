@@ -58,6 +58,14 @@ TEST(FrameGraph, ReportsWhyALookupFails) {
   EXPECT_FALSE(late.ok());
   EXPECT_EQ(late.failure, InterpolationFailure::kAfterEnd);
   EXPECT_THROW(graph.AddFixed("camera", "cambody", Rigid3d::Identity()), InputError);
+
+  FrameGraph lost;
+  auto samples = Track(Rigid3d::Identity(), {0, 0, 0});
+  samples[3].status = PoseStatus::kOutOfVolume;
+  lost.AddStream("tracker", "objbody", samples);
+  const FrameLookup out_of_volume = lost.Lookup("tracker", "objbody", 25 * kMs);
+  EXPECT_EQ(out_of_volume.failure, InterpolationFailure::kNeighbourInvalid);
+  EXPECT_EQ(out_of_volume.neighbour_status, PoseStatus::kOutOfVolume);
 }
 
 }  // namespace
