@@ -68,6 +68,7 @@ nlohmann::json ObjectList(const BopScene& scene) {
 
 void WriteObjectsYaml(const std::filesystem::path& file, const nlohmann::json& objects, const std::string& source) {
   YAML::Emitter out;
+  out.SetDoublePrecision(12);
   out << YAML::Comment("Objects of " + source + " (BOP obj_id, mesh in mm; T_body_mesh is identity)");
   out << YAML::BeginMap << YAML::Key << "objects" << YAML::Value << YAML::BeginSeq;
   for (const auto& o : objects) {
