@@ -151,5 +151,23 @@ TEST(TumImport, IntrinsicsOverrideAndBadOutput) {
   EXPECT_FALSE(std::filesystem::exists(scratch.path() / "T"));
 }
 
+TEST(TumImport, ImageCutInHalfIsRefusedBeforeTheSessionIsCreated) {
+  ScratchDir scratch;
+  const auto src = RealData("tum_fr1_desk_9frames");
+  const std::string rgb = ReadAll(src / "rgb/1305031453.359684.png");
+  const std::string depth = ReadAll(src / "depth/1305031453.374112.png");
+  scratch.Write("seq/rgb.txt", "# file: 'rgbd_dataset_freiburg1_desk.bag'\n1305031453.359684 rgb/1305031453.359684.png\n");
+  scratch.Write("seq/depth.txt", "1305031453.374112 depth/1305031453.374112.png\n");
+  scratch.Write("seq/groundtruth.txt", "1305031453.3500 0 0 0 0 0 0 1\n1305031453.3600 0 0 0 0 0 0 1\n");
+  scratch.Write("seq/rgb/1305031453.359684.png", rgb);
+  scratch.Write("seq/depth/1305031453.374112.png", depth.substr(0, depth.size() / 2));
+  EXPECT_THAT(InputErrorOf([&] { ImportTum(scratch.path() / "seq", scratch.path() / "S"); }),
+              HasSubstr("1305031453.374112.png: byte " + std::to_string(depth.size() / 2) + ": PNG is truncated"));
+  EXPECT_FALSE(std::filesystem::exists(scratch.path() / "S"));
+  // Whole again, the same folder imports: one frame with colour and depth.
+  scratch.Write("seq/depth/1305031453.374112.png", depth);
+  EXPECT_EQ(ImportTum(scratch.path() / "seq", scratch.path() / "S").frames_with_color_and_depth, 1);
+}
+
 }  // namespace
 }  // namespace mocap::import

@@ -11,6 +11,7 @@
 
 #include "core/check.h"
 #include "session/import/bop_scene.h"
+#include "session/import/image_check.h"
 #include "session/writer.h"
 
 namespace mocap::import {
@@ -134,6 +135,10 @@ ImportSummary ImportBop(const std::filesystem::path& scene_dir, const std::files
   CheckOutputFolder(out);
   const BopScene scene = ReadBopScene(scene_dir, models_dir);
   if (scene.frames.empty()) throw InputError(scene_dir.string(), "no annotated frame has a colour image in rgb/");
+  for (const auto& frame : scene.frames) {
+    CheckImportableImage(frame.rgb, false);
+    if (!frame.depth.empty()) CheckImportableImage(frame.depth, true);
+  }
   const auto groups = GroupFrames(scene);
   SessionManifest manifest;
   manifest.software_version = options.software_version;

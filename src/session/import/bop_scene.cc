@@ -88,7 +88,7 @@ PinholeCamera CameraFromK(const json& entry, const std::string& where) {
 }
 
 std::filesystem::path FindImage(const std::filesystem::path& folder, int im_id) {
-  for (const char* ext : {".png", ".jpg", ".jpeg", ".tif"}) {
+  for (const char* ext : {".png", ".jpg", ".jpeg"}) {
     auto path = folder / (Padded(im_id) + ext);
     if (std::filesystem::is_regular_file(path)) return std::filesystem::absolute(path).lexically_normal();
   }
