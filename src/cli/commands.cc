@@ -6,6 +6,8 @@ namespace mocap::cli {
 const std::vector<Command>& AllCommands() {
   static const std::vector<Command> commands = {
       {"version", "print the version", RunVersion},
+      {"info", "summarise a session: frames, rates, gaps, dropouts, clock fits", RunInfo},
+      {"import", "import tum|plus|motive|bop recordings into a session", RunImport},
   };
   return commands;
 }

@@ -3,5 +3,7 @@
 namespace mocap::cli {
 
 int RunVersion(int argc, char** argv);
+int RunInfo(int argc, char** argv);
+int RunImport(int argc, char** argv);
 
 }  // namespace mocap::cli

@@ -93,7 +93,7 @@ std::vector<uint8_t> EncodeColor(const cv::Mat& color, const std::string& extens
                                  int jpeg_quality) {
   MOCAP_CHECK(color.type() == CV_8UC3 || color.type() == CV_8UC1, "colour must be CV_8UC3 or CV_8UC1");
   std::vector<int> params;
-  if (extension == ".png") params = {cv::IMWRITE_PNG_COMPRESSION, png_compression};
+  if (extension == ".png" && png_compression >= 0) params = {cv::IMWRITE_PNG_COMPRESSION, png_compression};
   if (extension == ".jpg") params = {cv::IMWRITE_JPEG_QUALITY, jpeg_quality};
   std::vector<uint8_t> bytes;
   MOCAP_CHECK(cv::imencode(extension, color, bytes, params), "encoding ", extension, " failed");
@@ -114,9 +114,10 @@ std::vector<uint8_t> EncodeDepthPng(const cv::Mat& depth, double depth_unit_m, i
       }
     }
   }
+  std::vector<int> params;
+  if (png_compression >= 0) params = {cv::IMWRITE_PNG_COMPRESSION, png_compression};
   std::vector<uint8_t> bytes;
-  MOCAP_CHECK(cv::imencode(".png", units, bytes, {cv::IMWRITE_PNG_COMPRESSION, png_compression}),
-              "encoding 16-bit PNG failed");
+  MOCAP_CHECK(cv::imencode(".png", units, bytes, params), "encoding 16-bit PNG failed");
   return bytes;
 }
 

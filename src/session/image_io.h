@@ -12,6 +12,7 @@
 namespace mocap {
 
 /// Encoded bytes of a colour image (CV_8UC3 BGR or CV_8UC1). `extension` is ".png" or ".jpg".
+/// png_compression -1 selects OpenCV's speed-tuned PNG settings (level 1, SUB filter, RLE).
 std::vector<uint8_t> EncodeColor(const cv::Mat& color, const std::string& extension, int png_compression,
                                  int jpeg_quality);
 /// 16-bit PNG bytes of a depth image: CV_16UC1 is stored as is; CV_32FC1 metres are divided by

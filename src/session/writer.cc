@@ -26,7 +26,7 @@ namespace fs = std::filesystem;
 
 void SessionWriterOptions::check() const {
   const std::string where = "SessionWriterOptions";
-  if (png_compression < 0 || png_compression > 9) throw InputError(where, "png_compression must be in 0..9");
+  if (png_compression < -1 || png_compression > 9) throw InputError(where, "png_compression must be in -1..9");
   if (jpeg_quality < 1 || jpeg_quality > 100) throw InputError(where, "jpeg_quality must be in 1..100");
   if (encoder_threads < 1 || encoder_threads > 64) throw InputError(where, "encoder_threads must be in 1..64");
   if (max_pending_frames < 1) throw InputError(where, "max_pending_frames must be >= 1");

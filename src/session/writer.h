@@ -29,7 +29,9 @@ enum class DepthEncoding : uint8_t { kPng16 = 0, kExr = 1 };
 struct SessionWriterOptions {
   ColorEncoding color_encoding = ColorEncoding::kPng;
   DepthEncoding depth_encoding = DepthEncoding::kPng16;
-  int png_compression = 1;     ///< zlib level 0..9; low keeps up with 30 Hz RGB-D on 2 cores
+  /// zlib level 0..9, or -1 for OpenCV's speed-tuned PNG (level 1, SUB filter, RLE strategy), which
+  /// encodes 640x480 RGB + depth in about a third of the time of an explicit level 1 at similar size.
+  int png_compression = -1;
   int jpeg_quality = 95;       ///< 1..100
   int encoder_threads = 2;     ///< image encoding threads, >= 1
   int max_pending_frames = 8;  ///< camera records in flight before WriteCameraFrame blocks, >= 1

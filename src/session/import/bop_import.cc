@@ -11,6 +11,7 @@
 
 #include "core/check.h"
 #include "session/import/bop_scene.h"
+#include "session/import/image_check.h"
 #include "session/writer.h"
 
 namespace mocap::import {
@@ -68,6 +69,7 @@ nlohmann::json ObjectList(const BopScene& scene) {
 
 void WriteObjectsYaml(const std::filesystem::path& file, const nlohmann::json& objects, const std::string& source) {
   YAML::Emitter out;
+  out.SetDoublePrecision(12);
   out << YAML::Comment("Objects of " + source + " (BOP obj_id, mesh in mm; T_body_mesh is identity)");
   out << YAML::BeginMap << YAML::Key << "objects" << YAML::Value << YAML::BeginSeq;
   for (const auto& o : objects) {
@@ -133,6 +135,10 @@ ImportSummary ImportBop(const std::filesystem::path& scene_dir, const std::files
   CheckOutputFolder(out);
   const BopScene scene = ReadBopScene(scene_dir, models_dir);
   if (scene.frames.empty()) throw InputError(scene_dir.string(), "no annotated frame has a colour image in rgb/");
+  for (const auto& frame : scene.frames) {
+    CheckImportableImage(frame.rgb, false);
+    if (!frame.depth.empty()) CheckImportableImage(frame.depth, true);
+  }
   const auto groups = GroupFrames(scene);
   SessionManifest manifest;
   manifest.software_version = options.software_version;

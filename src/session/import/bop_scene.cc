@@ -88,9 +88,9 @@ PinholeCamera CameraFromK(const json& entry, const std::string& where) {
 }
 
 std::filesystem::path FindImage(const std::filesystem::path& folder, int im_id) {
-  for (const char* ext : {".png", ".jpg", ".jpeg", ".tif"}) {
+  for (const char* ext : {".png", ".jpg", ".jpeg"}) {
     auto path = folder / (Padded(im_id) + ext);
-    if (std::filesystem::is_regular_file(path)) return std::filesystem::absolute(path);
+    if (std::filesystem::is_regular_file(path)) return std::filesystem::absolute(path).lexically_normal();
   }
   return {};
 }
@@ -131,7 +131,7 @@ std::vector<BopModel> ReadModels(const std::filesystem::path& models_dir) {
     if (diameter_mm < 1.0)
       throw InputError(where, Str("diameter ", diameter_mm, " looks like metres; BOP models are in mm"));
     model.diameter_m = diameter_mm * 1e-3;
-    model.mesh = std::filesystem::absolute(models_dir / ("obj_" + Padded(model.obj_id) + ".ply"));
+    model.mesh = std::filesystem::absolute(models_dir / ("obj_" + Padded(model.obj_id) + ".ply")).lexically_normal();
     model.mesh_exists = std::filesystem::is_regular_file(model.mesh);
     models.push_back(model);
   }
@@ -158,7 +158,7 @@ std::string BopObjectName(int obj_id) { return "obj_" + Padded(obj_id); }
 BopScene ReadBopScene(const std::filesystem::path& scene_dir, const std::filesystem::path& models_dir) {
   if (!std::filesystem::is_directory(scene_dir)) throw InputError(scene_dir.string(), "not a folder (expected a BOP scene)");
   BopScene scene;
-  scene.dir = std::filesystem::absolute(scene_dir);
+  scene.dir = std::filesystem::absolute(scene_dir).lexically_normal();
   const std::string folder = scene.dir.lexically_normal().filename().string().empty()
                                  ? scene.dir.lexically_normal().parent_path().filename().string()
                                  : scene.dir.lexically_normal().filename().string();

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "core/check.h"
+#include "session/import/image_check.h"
 #include "session/writer.h"
 
 namespace mocap::import {
@@ -59,6 +60,11 @@ std::vector<PlannedFrame> PlanFrames(const TumSequence& seq) {
     if (!depth_used[j])
       frames.push_back({seq.depth.entries[j].stamp_ns, seq.depth.entries[j].stamp_text, {}, seq.dir / seq.depth.entries[j].relative_path});
   std::stable_sort(frames.begin(), frames.end(), [](const auto& a, const auto& b) { return a.stamp_ns < b.stamp_ns; });
+  // Every image is checked before the session is created, so a bad one leaves no partial session.
+  for (const auto& f : frames) {
+    if (!f.color.empty()) CheckImportableImage(f.color, false);
+    if (!f.depth.empty()) CheckImportableImage(f.depth, true);
+  }
   return frames;
 }
 
@@ -160,8 +166,9 @@ ImportSummary ImportTum(const std::filesystem::path& source, const std::filesyst
     summary.notes.push_back(Str(seq.rgb.file.string(), ":", line, ": header line without '#' skipped"));
   for (int line : seq.depth.header_lines_without_hash)
     summary.notes.push_back(Str(seq.depth.file.string(), ":", line, ": header line without '#' skipped"));
+  const std::vector<PlannedFrame> frames = PlanFrames(seq);
   auto writer = SessionWriter::Create(out, manifest);
-  WriteFrames(*writer, PlanFrames(seq), summary);
+  WriteFrames(*writer, frames, summary);
   WriteBodySamples(*writer, kTracker, GroundTruthRecords(seq.groundtruth), options.gap_limit_ns, summary);
   writer->Close();
   return summary;
