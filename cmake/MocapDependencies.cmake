@@ -15,3 +15,7 @@ endif()
 if(BUILD_BENCHMARKS)
   find_package(benchmark REQUIRED)
 endif()
+# Headless rendering: EGL + desktop OpenGL through glvnd (libEGL, libOpenGL), meshes through assimp.
+set(OpenGL_GL_PREFERENCE GLVND)
+find_package(OpenGL REQUIRED COMPONENTS EGL OpenGL)
+find_package(assimp REQUIRED)
