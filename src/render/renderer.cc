@@ -117,7 +117,7 @@ ObjectLayer MakeLayer(const RenderCanvas& canvas, const PixelRect& r, const std:
   if (layer.px_count_all > 0) {
     // Pixel positions are integers without distortion; distorted outside positions are rounded.
     const int x0 = static_cast<int>(std::lround(u0)), y0 = static_cast<int>(std::lround(v0));
-    layer.bbox_obj = {x0, y0, static_cast<int>(std::lround(u1)) - x0 + 1, static_cast<int>(std::lround(v1)) - y0 + 1};
+    layer.bbox_obj = {x0, y0, static_cast<int>(std::lround(u1)) - x0, static_cast<int>(std::lround(v1)) - y0};
   }
   return layer;
 }

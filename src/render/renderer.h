@@ -45,8 +45,8 @@ struct ObjectLayer {
   std::vector<float> depth_m;  ///< rect.width * rect.height, z along the optical axis; 0 = not covered
   /// Pixels of the amodal silhouette, including those outside the image (within the render canvas).
   int px_count_all = 0;
-  /// Amodal bounding box [x, y, w, h] in image pixels including parts outside the image;
-  /// {-1, -1, -1, -1} when the object covers no pixel.
+  /// Amodal bounding box [x, y, w, h] in image pixels including parts outside the image, as BOP writes
+  /// it: w = x_max - x_min, h = y_max - y_min; {-1, -1, -1, -1} when the object covers no pixel.
   std::array<int, 4> bbox_obj{-1, -1, -1, -1};
   /// The silhouette reaches the border of the render canvas: bbox_obj and px_count_all are lower bounds.
   bool truncated_by_canvas = false;

@@ -127,8 +127,8 @@ TEST(Projection, AmodalBoxIncludesPartsOutsideTheImage) {
   const ObjectLayer& layer = out.layers[0];
   EXPECT_EQ(layer.bbox_obj[0], -20);
   EXPECT_EQ(layer.bbox_obj[1], 220);
-  EXPECT_EQ(layer.bbox_obj[2], 41);
-  EXPECT_EQ(layer.bbox_obj[3], 41);
+  EXPECT_EQ(layer.bbox_obj[2], 40) << "BOP's w = x_max - x_min";
+  EXPECT_EQ(layer.bbox_obj[3], 40);
   EXPECT_EQ(layer.px_count_all, 41 * 41);
   int inside = 0;
   for (uint16_t id : out.instance_ids.data) inside += id == 7;
