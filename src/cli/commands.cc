@@ -6,6 +6,7 @@ namespace mocap::cli {
 const std::vector<Command>& AllCommands() {
   static const std::vector<Command> commands = {
       {"version", "print the version", RunVersion},
+      {"doctor", "check headless rendering (EGL platform, driver, test render)", RunDoctor},
   };
   return commands;
 }

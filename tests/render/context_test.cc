@@ -5,6 +5,7 @@
 #include <cstdlib>
 
 #include "core/check.h"
+#include "render/self_test.h"
 
 namespace mocap {
 namespace {
@@ -50,6 +51,16 @@ TEST(RenderContext, PlatformNamesRoundTrip) {
     EXPECT_EQ(EglPlatformFromString(ToString(p)), p);
   EXPECT_THROW(EglPlatformFromString("x11"), InputError);
   EXPECT_THROW(RenderContext::Create({.platform = EglPlatform::kAuto, .device_index = 0}), InputError);
+}
+
+TEST(RenderSelfTest, CubeHasThePredictedSilhouette) {
+  const auto context = RenderContext::Create({.platform = EglPlatform::kSurfaceless});
+  const RenderSelfTestResult result = RunRenderSelfTest(*context);
+  EXPECT_TRUE(result.ok) << result.problem;
+  EXPECT_EQ(result.pixels, 112 * 112);  // 111.1 px square around (319.5, 239.5): centres 264..375
+  EXPECT_EQ(result.expected_pixels, 112 * 112);
+  EXPECT_NEAR(result.center_depth_m, 0.45, 1e-6);
+  EXPECT_GT(result.ms_per_frame, 0.0);
 }
 
 }  // namespace
