@@ -17,3 +17,7 @@ if(BUILD_BENCHMARKS)
 endif()
 find_package(ZLIB REQUIRED)
 find_package(OpenEXR 3 REQUIRED CONFIG)
+# Headless rendering: EGL + desktop OpenGL through glvnd (libEGL, libOpenGL), meshes through assimp.
+set(OpenGL_GL_PREFERENCE GLVND)
+find_package(OpenGL REQUIRED COMPONENTS EGL OpenGL)
+find_package(assimp REQUIRED)

@@ -5,5 +5,6 @@ namespace mocap::cli {
 int RunVersion(int argc, char** argv);
 int RunInfo(int argc, char** argv);
 int RunImport(int argc, char** argv);
+int RunDoctor(int argc, char** argv);
 
 }  // namespace mocap::cli

@@ -1,0 +1,117 @@
+#include "label/object_labels.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/check.h"
+
+namespace mocap {
+namespace {
+
+/// Length of the ray (x, y, 1) through pixel (u, v): converts z along the optical axis to the distance
+/// from the camera centre, which is what BOP's visibility test compares.
+double RayLength(const PinholeCamera& camera, int u, int v) {
+  if (!camera.has_distortion()) {
+    const double x = (u - camera.cx) / camera.fx, y = (v - camera.cy) / camera.fy;
+    return std::sqrt(x * x + y * y + 1.0);
+  }
+  return camera.Ray({u, v}).norm();
+}
+
+/// BOP19: visible when the measured depth is missing or the rendered distance exceeds the measured one
+/// by at most delta (`bop_toolkit_lib/visibility.py`, mode bop19).
+bool VisibleInMeasured(const PinholeCamera& camera, int u, int v, float z_render, float z_measured,
+                       const VisibilityOptions& options) {
+  if (!(z_measured > 0.0f)) return true;
+  const double dz = static_cast<double>(z_render) - z_measured;
+  if (dz <= 0) return true;  // the surface is in front of (or at) what was measured: not occluded
+  return dz * RayLength(camera, u, v) <= options.delta_m(z_render);
+}
+
+ObjectLabels LabelOne(const ObjectLayer& layer, const RenderOutput& render, const PinholeCamera& camera,
+                      const DepthImage* measured, const VisibilityOptions& options) {
+  ObjectLabels out;
+  ObjectMasks& m = out.masks;
+  ObjectStats& s = out.stats;
+  m.instance_id = s.instance_id = layer.instance_id;
+  m.rect = layer.rect;
+  const size_t n = layer.depth_m.size();
+  m.amodal.assign(n, 0);
+  m.visible_model.assign(n, 0);
+  if (measured) m.visible_measured.assign(n, 0);
+  int valid = 0, visible_measured = 0, visible_model = 0, inside = 0;
+  for (int v = m.rect.y; v < m.rect.y + m.rect.height; ++v) {
+    for (int u = m.rect.x; u < m.rect.x + m.rect.width; ++u) {
+      const size_t i = static_cast<size_t>(v - m.rect.y) * m.rect.width + (u - m.rect.x);
+      const float z = layer.depth_m[i];
+      if (!(z > 0.0f)) continue;
+      m.amodal[i] = 1, ++inside;
+      if (render.instance_ids.at(u, v) == layer.instance_id) m.visible_model[i] = 1, ++visible_model;
+      if (!measured) continue;
+      const float zm = measured->at(u, v);
+      valid += zm > 0.0f;
+      if (VisibleInMeasured(camera, u, v, z, zm, options)) m.visible_measured[i] = 1, ++visible_measured;
+    }
+  }
+  s.bbox_obj = layer.bbox_obj;
+  s.px_count_all = layer.px_count_all;
+  s.truncated_by_canvas = layer.truncated_by_canvas;
+  s.outside_image = inside == 0;
+  s.px_count_visib_model = visible_model;
+  s.visib_fract_model = s.px_count_all > 0 ? static_cast<double>(visible_model) / s.px_count_all : 0.0;
+  s.px_count_valid = measured ? valid : -1;
+  s.px_count_visib = measured ? visible_measured : visible_model;
+  s.visib_fract = s.px_count_all > 0 ? static_cast<double>(s.px_count_visib) / s.px_count_all : 0.0;
+  s.bbox_visib = MaskBox(measured ? m.visible_measured : m.visible_model, m.rect);
+  return out;
+}
+
+}  // namespace
+
+void VisibilityOptions::check() const {
+  for (double value : {delta_base_m, noise_sigmas, noise_coeff_per_m})
+    if (!std::isfinite(value) || value < 0)
+      throw InputError("visibility options", Str("delta_base_m, noise_sigmas and noise_coeff_per_m must be >= 0 (got ",
+                                                 delta_base_m, ", ", noise_sigmas, ", ", noise_coeff_per_m, ")"));
+}
+
+PixelBox MaskBox(const std::vector<uint8_t>& mask, const PixelRect& rect) {
+  int x0 = INT32_MAX, y0 = INT32_MAX, x1 = -1, y1 = -1;
+  for (int v = 0; v < rect.height; ++v) {
+    for (int u = 0; u < rect.width; ++u) {
+      if (!mask[static_cast<size_t>(v) * rect.width + u]) continue;
+      x0 = std::min(x0, u), x1 = std::max(x1, u), y0 = std::min(y0, v), y1 = std::max(y1, v);
+    }
+  }
+  if (x1 < 0) return {-1, -1, -1, -1};
+  return {rect.x + x0, rect.y + y0, x1 - x0, y1 - y0};  // BOP: w = x_max - x_min
+}
+
+Image<uint8_t> ToFullImage(const std::vector<uint8_t>& mask, const PixelRect& rect, int width, int height, uint8_t value) {
+  Image<uint8_t> image(width, height, 0);
+  for (int v = 0; v < rect.height; ++v)
+    for (int u = 0; u < rect.width; ++u)
+      if (mask[static_cast<size_t>(v) * rect.width + u]) image.at(rect.x + u, rect.y + v) = value;
+  return image;
+}
+
+std::vector<ObjectLabels> ComputeObjectLabels(const RenderOutput& render, const PinholeCamera& camera,
+                                              const DepthImage* measured_depth_m, const VisibilityOptions& options) {
+  options.check();
+  MOCAP_CHECK(render.instance_ids.width == camera.width && render.instance_ids.height == camera.height,
+              "render size differs from the camera's");
+  if (measured_depth_m && (measured_depth_m->width != camera.width || measured_depth_m->height != camera.height))
+    throw InputError("measured depth", Str("size ", measured_depth_m->width, "x", measured_depth_m->height,
+                                           " differs from the camera's ", camera.width, "x", camera.height,
+                                           " (register depth to the colour camera first)"));
+  std::vector<ObjectLabels> labels;
+  labels.reserve(render.layers.size());
+  for (const ObjectLayer& layer : render.layers) labels.push_back(LabelOne(layer, render, camera, measured_depth_m, options));
+  return labels;
+}
+
+PoseFields MakePoseFields(const Rigid3d& T_camera_object) {
+  return {T_camera_object.rvec(), T_camera_object.translation(), T_camera_object.quat_wxyz()};
+}
+
+}  // namespace mocap
