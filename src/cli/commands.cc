@@ -8,6 +8,7 @@ const std::vector<Command>& AllCommands() {
       {"version", "print the version", RunVersion},
       {"info", "summarise a session: frames, rates, gaps, dropouts, clock fits", RunInfo},
       {"import", "import tum|plus|motive|bop recordings into a session", RunImport},
+      {"label", "label every frame: masks, rendered depth, poses and flags", RunLabel},
       {"doctor", "check headless rendering (EGL platform, driver, test render)", RunDoctor},
   };
   return commands;

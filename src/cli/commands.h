@@ -6,5 +6,6 @@ int RunVersion(int argc, char** argv);
 int RunInfo(int argc, char** argv);
 int RunImport(int argc, char** argv);
 int RunDoctor(int argc, char** argv);
+int RunLabel(int argc, char** argv);
 
 }  // namespace mocap::cli

@@ -1,0 +1,219 @@
+#include "label/labeller.h"
+
+#include <atomic>
+#include <chrono>
+#include <exception>
+#include <fstream>
+#include <mutex>
+#include <thread>
+
+#include "core/check.h"
+#include "render/mesh.h"
+
+namespace mocap {
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+double SecondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+
+std::vector<Mesh> LoadMeshes(const std::vector<LabelObject>& objects) {
+  std::vector<Mesh> meshes;
+  // LoadMesh refuses a missing or unreadable file and a mesh whose extent does not fit its unit.
+  for (const LabelObject& o : objects) meshes.push_back(LoadMesh(o.mesh_path.string(), o.unit_scale_to_m));
+  return meshes;
+}
+
+fs::path PartialDir(const fs::path& out) {
+  fs::path partial = out;
+  partial += ".partial";
+  return partial;
+}
+
+fs::path PrepareOutput(const fs::path& out, const std::vector<std::string>& cameras) {
+  if (fs::exists(out) && !fs::is_empty(out) && !fs::exists(out / "label_manifest.json"))
+    throw InputError(out.string(), "exists and is not an earlier label output; choose another --out");
+  const fs::path partial = PartialDir(out);
+  fs::remove_all(partial);
+  for (const std::string& camera : cameras)
+    for (const char* sub : {"instance", "class", "depth", "mask", "mask_visib", "mask_visib_depth", "overlay"})
+      fs::create_directories(partial / camera / sub);
+  return partial;
+}
+
+/// One camera's frames; each frame's labels.jsonl lines land in lines[index] (empty: frame skipped).
+struct CameraJob {
+  std::string camera;
+  std::unique_ptr<PoseChain> chain;
+  bool depth_registered = false;
+  std::vector<std::vector<nlohmann::json>> lines;
+};
+
+/// Labels one frame with a worker's renderer. Returns the render time in seconds.
+double LabelFrame(const SessionReader& session, const std::vector<LabelObject>& objects, Renderer& renderer,
+                  const std::vector<MeshHandle>& handles, CameraJob& job, int64_t index, const LabelOptions& options,
+                  const fs::path& out) {
+  const CameraFrameEntry& entry = session.frame(job.camera, index);
+  if (!entry.color_present && !entry.depth_present) return 0.0;
+  const PoseChain& chain = *job.chain;
+  std::vector<InstanceResult> results(chain.instances().size());
+  std::vector<RenderItem> items;
+  std::vector<size_t> result_of_item;
+  for (size_t i = 0; i < results.size(); ++i) {
+    results[i].instance = &chain.instances()[i];
+    results[i].pose = chain.Lookup(i, entry.record.stamp_ns);
+    if (!results[i].pose.T_camera_mesh) continue;
+    const auto object_index = static_cast<size_t>(results[i].instance->object - objects.data());
+    items.push_back({handles[object_index], *results[i].pose.T_camera_mesh, results[i].instance->instance_id});
+    result_of_item.push_back(i);
+  }
+  const auto t0 = Clock::now();
+  const RenderOutput render = renderer.Render(chain.camera(), items);
+  const double render_s = SecondsSince(t0);
+  const bool use_depth = entry.depth_present && job.depth_registered;
+  const DepthImage depth = use_depth ? session.LoadDepth(job.camera, index) : DepthImage();
+  const std::vector<ObjectLabels> labels =
+      ComputeObjectLabels(render, chain.camera(), use_depth ? &depth : nullptr, options.visibility);
+  for (size_t k = 0; k < result_of_item.size(); ++k) {
+    InstanceResult& r = results[result_of_item[k]];
+    r.labels = &labels[k];
+    if (labels[k].stats.outside_image) r.pose.flags.push_back("outside_image");
+  }
+  const bool overlay = options.output.write_overlay && entry.color_present;
+  WriteFrameImages(out, job.camera, index, render, results, overlay ? session.LoadColor(job.camera, index) : cv::Mat(),
+                   options.output);
+  auto& lines = job.lines[static_cast<size_t>(index)];
+  for (const InstanceResult& r : results) lines.push_back(LabelRecord(job.camera, index, entry.record, r, use_depth));
+  return render_s;
+}
+
+/// Runs `threads` workers, each with its own EGL context, over every (camera, frame). Rethrows the first
+/// error of any worker after all have stopped. Returns the summed render time.
+double RunWorkers(const SessionReader& session, const std::vector<LabelObject>& objects,
+                  const std::vector<Mesh>& meshes, std::vector<CameraJob>& jobs, const LabelOptions& options,
+                  const fs::path& out) {
+  std::vector<std::pair<size_t, int64_t>> work;
+  for (size_t j = 0; j < jobs.size(); ++j)
+    for (int64_t i = 0; i < static_cast<int64_t>(jobs[j].lines.size()); ++i) work.emplace_back(j, i);
+  const int threads = options.threads > 0 ? options.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  std::atomic<size_t> next{0};
+  std::atomic<bool> failed{false};
+  std::exception_ptr error;
+  std::mutex mutex;
+  double render_seconds = 0;
+  auto run = [&] {
+    try {
+      const auto context = RenderContext::Create(options.context);
+      context->MakeCurrent();
+      Renderer renderer(*context, options.renderer);
+      std::vector<MeshHandle> handles;
+      for (const Mesh& m : meshes) handles.push_back(renderer.Upload(m));
+      double render_s = 0;
+      for (size_t w = next++; w < work.size() && !failed; w = next++)
+        render_s += LabelFrame(session, objects, renderer, handles, jobs[work[w].first], work[w].second, options, out);
+      std::lock_guard lock(mutex);
+      render_seconds += render_s;
+    } catch (...) {
+      std::lock_guard lock(mutex);
+      if (!error) error = std::current_exception();
+      failed = true;
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int t = 0; t < std::min<int>(threads, static_cast<int>(std::max<size_t>(work.size(), 1))); ++t) pool.emplace_back(run);
+  for (std::thread& t : pool) t.join();
+  if (error) std::rethrow_exception(error);
+  return render_seconds;
+}
+
+void WriteLines(const std::vector<CameraJob>& jobs, const fs::path& file, LabelSummary& summary) {
+  std::ofstream jsonl(file);
+  for (const CameraJob& job : jobs) {
+    for (const auto& frame_lines : job.lines) {
+      if (frame_lines.empty()) {
+        ++summary.frames_skipped;
+        continue;
+      }
+      ++summary.frames;
+      bool flagged = false;
+      for (const nlohmann::json& line : frame_lines) {
+        jsonl << line.dump() << '\n';
+        ++summary.records;
+        if (line.contains("rvec")) ++summary.records_with_pose;
+        for (const auto& flag : line["flags"]) {
+          ++summary.flag_counts[flag.get<std::string>()];
+          flagged = true;
+        }
+      }
+      summary.frames_flagged += flagged ? 1 : 0;
+    }
+  }
+  jsonl.close();
+  if (!jsonl) throw InputError(file.string(), "could not write (disk full or not writable?)");
+}
+
+nlohmann::json SummaryJson(const LabelSummary& s, const SessionReader& session) {
+  return {{"session", fs::absolute(session.dir()).string()},
+          {"complete", s.complete},
+          {"frames", s.frames},
+          {"frames_skipped", s.frames_skipped},
+          {"records", s.records},
+          {"records_with_pose", s.records_with_pose},
+          {"frames_flagged", s.frames_flagged},
+          {"flag_counts", s.flag_counts},
+          {"seconds", s.seconds},
+          {"render_seconds", s.render_seconds}};
+}
+
+/// Moves the finished output into place: the old output is removed only once the new one is whole.
+void Publish(const fs::path& partial, const fs::path& out) {
+  fs::remove_all(out);
+  fs::rename(partial, out);
+}
+
+}  // namespace
+
+void LabelOptions::check() const {
+  if (out_dir.empty()) throw InputError("label", "no output folder given (--out)");
+  if (threads < 0) throw InputError("label", "threads must be >= 0");
+  chain.check();
+  visibility.check();
+  renderer.check();
+  context.check();
+}
+
+LabelSummary LabelSession(const SessionReader& session, const std::vector<LabelObject>& objects, const Rig& rig,
+                          const LabelOptions& options) {
+  options.check();
+  rig.check("rig");
+  if (objects.empty()) throw InputError("objects", "no objects to label");
+  CheckLabelObjects(objects, "objects");
+  const auto start = Clock::now();
+  const std::vector<Mesh> meshes = LoadMeshes(objects);
+  std::vector<std::string> cameras = options.cameras;
+  if (cameras.empty())
+    for (const CameraStreamInfo& c : session.manifest().cameras) cameras.push_back(c.name);
+  std::vector<CameraJob> jobs;
+  for (const std::string& camera : cameras) {
+    CameraJob job{camera, std::make_unique<PoseChain>(session, camera, objects, rig, options.chain), false, {}};
+    job.depth_registered = session.manifest().FindCamera(camera)->depth_registered_to_color;
+    job.lines.resize(static_cast<size_t>(session.frame_count(camera)));
+    jobs.push_back(std::move(job));
+  }
+  const fs::path partial = PrepareOutput(options.out_dir, cameras);
+  LabelSummary summary;
+  summary.render_seconds = RunWorkers(session, objects, meshes, jobs, options, partial);
+  WriteLines(jobs, partial / "labels.jsonl", summary);
+  summary.seconds = SecondsSince(start);
+  summary.complete = true;
+  summary.out_dir = options.out_dir;
+  std::ofstream manifest(partial / "label_manifest.json");
+  manifest << SummaryJson(summary, session).dump(2) << '\n';
+  manifest.close();
+  if (!manifest) throw InputError((partial / "label_manifest.json").string(), "could not write");
+  Publish(partial, options.out_dir);
+  return summary;
+}
+
+}  // namespace mocap

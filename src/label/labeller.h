@@ -1,0 +1,54 @@
+#pragma once
+// `mocaplabel label`: every camera frame of a session, every object instance: the pose through the rig's
+// chain of transforms, a render of all meshes, masks and statistics, written as files (label_output.h).
+// Frames are processed in parallel, one EGL context per worker thread. The output is written into
+// <out>.partial and renamed to <out> only when complete, so a crash or an error never leaves a partial
+// output that looks complete.
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "label/label_objects.h"
+#include "label/label_output.h"
+#include "label/pose_chain.h"
+#include "label/rig.h"
+#include "label/visibility.h"
+#include "render/render_context.h"
+#include "render/renderer.h"
+#include "session/reader.h"
+
+namespace mocap {
+
+struct LabelOptions {
+  std::filesystem::path out_dir;     ///< replaced when it holds an earlier label run (label_manifest.json)
+  std::vector<std::string> cameras;  ///< cameras to label; empty = every camera of the session
+  int threads = 0;                   ///< worker threads; 0 = one per core
+  FrameOutputOptions output;
+  PoseChainOptions chain;
+  VisibilityOptions visibility;
+  RendererOptions renderer;
+  RenderContextOptions context;
+  void check() const;
+};
+
+struct LabelSummary {
+  int64_t frames = 0;             ///< camera records labelled (colour or depth present)
+  int64_t frames_skipped = 0;     ///< records whose image files are missing
+  int64_t records = 0;            ///< labels.jsonl lines (frames x instances)
+  int64_t records_with_pose = 0;
+  int64_t frames_flagged = 0;     ///< frames with at least one flagged instance
+  std::map<std::string, int64_t> flag_counts;
+  double seconds = 0;
+  double render_seconds = 0;      ///< summed over workers
+  std::filesystem::path out_dir;
+  bool complete = false;
+};
+
+/// Throws InputError for an unusable output folder, a mesh that cannot be loaded or whose extent does not
+/// fit its declared unit, an unknown camera, or a failed write (the partial output is left in
+/// <out>.partial, never at <out>).
+LabelSummary LabelSession(const SessionReader& session, const std::vector<LabelObject>& objects, const Rig& rig,
+                          const LabelOptions& options);
+
+}  // namespace mocap

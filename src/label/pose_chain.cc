@@ -1,0 +1,107 @@
+#include "label/pose_chain.h"
+
+#include <algorithm>
+
+#include "core/check.h"
+
+namespace mocap {
+namespace {
+
+constexpr const char* kCameraNode = "camera";
+
+std::string FlagOf(const FrameLookup& lookup) {
+  switch (lookup.failure) {
+    case InterpolationFailure::kGapTooLong: return "gap";
+    case InterpolationFailure::kNeighbourInvalid:
+      return lookup.neighbour_status == PoseStatus::kOutOfVolume ? "out_of_volume" : "missing_body";
+    default: return "no_pose";
+  }
+}
+
+}  // namespace
+
+void PoseChainOptions::check() const {
+  interpolation.check();
+  if (speed_half_window_ns <= 0) throw InputError("PoseChainOptions", "speed_half_window_ns must be positive");
+  if (!(fast_motion_m_per_s > 0) || !(fast_motion_deg_per_s > 0))
+    throw InputError("PoseChainOptions", "fast-motion thresholds must be positive");
+}
+
+std::string PoseChain::WorldNode(const SessionReader& session, const std::string& tracker) const {
+  const TrackerStreamInfo* info = session.manifest().FindTracker(tracker);
+  MOCAP_CHECK(info != nullptr, "tracker '", tracker, "' not in the manifest");
+  if (info->frame == "camera:" + camera_name_) return kCameraNode;
+  return info->frame;  // "tracker", or another camera's frame (not linked to this one)
+}
+
+void PoseChain::AddBody(const SessionReader& session, const std::string& body) {
+  if (std::find(added_bodies_.begin(), added_bodies_.end(), body) != added_bodies_.end()) return;
+  const auto tracker = session.TrackerOfBody(body);
+  MOCAP_CHECK(tracker.has_value(), "body '", body, "' has no tracker");
+  graph_.AddStream(WorldNode(session, *tracker), body, session.PoseSamples(*tracker, body));
+  added_bodies_.push_back(body);
+}
+
+PoseChain::PoseChain(const SessionReader& session, const std::string& camera, const std::vector<LabelObject>& objects,
+                     const Rig& rig, const PoseChainOptions& options)
+    : camera_name_(camera), options_(options), latency_ns_(rig.tracker_latency_ns), graph_(options.interpolation) {
+  options_.check();
+  const CameraStreamInfo* info = session.manifest().FindCamera(camera);
+  if (info == nullptr) throw InputError(session.dir().string(), Str("the session has no camera '", camera, "'"));
+  const RigCamera* rig_camera = rig.Find(camera);
+  camera_ = rig_camera && rig_camera->color_camera ? *rig_camera->color_camera : info->color_camera;
+  const std::string body = rig_camera && rig_camera->body ? *rig_camera->body : info->camera_body;
+  if (!body.empty()) {
+    if (!session.TrackerOfBody(body))
+      throw InputError(session.dir().string(), Str("camera body '", body, "' is reported by no tracker in the session"));
+    AddBody(session, body);
+    graph_.AddFixed(body, kCameraNode,
+                    rig_camera && rig_camera->T_body_camera ? *rig_camera->T_body_camera : info->T_body_camera);
+  }
+  for (const LabelObject& object : objects) {
+    for (const BodyMount& mount : object.mounts) {
+      const std::string node = "mesh:" + object.name + "@" + mount.body;
+      instances_.push_back({static_cast<uint16_t>(instances_.size() + 1), &object, &mount});
+      mesh_nodes_.push_back(node);
+      if (!session.TrackerOfBody(mount.body)) {
+        unreported_.push_back(Str("no tracker in the session reports body '", mount.body, "'"));
+        continue;
+      }
+      unreported_.emplace_back();
+      AddBody(session, mount.body);
+      graph_.AddFixed(mount.body, node, mount.T_body_mesh);
+    }
+  }
+}
+
+InstancePose PoseChain::Lookup(size_t index, int64_t frame_stamp_ns) const {
+  MOCAP_CHECK(index < instances_.size(), "instance ", index, " out of range");
+  InstancePose out;
+  if (!unreported_[index].empty()) {
+    out.flags = {"missing_body"};
+    out.reason = unreported_[index];
+    return out;
+  }
+  const int64_t t = frame_stamp_ns + latency_ns_;
+  const FrameLookup at = graph_.Lookup(kCameraNode, mesh_nodes_[index], t);
+  if (!at.ok()) {
+    out.flags = {FlagOf(at)};
+    out.reason = at.reason;
+    return out;
+  }
+  out.T_camera_mesh = at.T_a_b;
+  out.interp_gap_ms = static_cast<double>(at.max_gap_ns) * 1e-6;
+  const int64_t w = options_.speed_half_window_ns;
+  const FrameLookup before = graph_.Lookup(kCameraNode, mesh_nodes_[index], t - w);
+  const FrameLookup after = graph_.Lookup(kCameraNode, mesh_nodes_[index], t + w);
+  if (before.ok() && after.ok()) {
+    const double dt_s = 2.0 * static_cast<double>(w) * 1e-9;
+    out.speed_m_per_s = TranslationDistanceM(*before.T_a_b, *after.T_a_b) / dt_s;
+    out.speed_deg_per_s = RotationDistanceDeg(*before.T_a_b, *after.T_a_b) / dt_s;
+    if (out.speed_m_per_s > options_.fast_motion_m_per_s || out.speed_deg_per_s > options_.fast_motion_deg_per_s)
+      out.flags.push_back("fast_motion");
+  }
+  return out;
+}
+
+}  // namespace mocap

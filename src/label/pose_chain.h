@@ -1,0 +1,71 @@
+#pragma once
+// The chain of transforms from a session's camera to every object instance (DESIGN.md "Conventions"):
+// T_camera_mesh = inv(T_tracker_cambody * T_cambody_camera) * T_tracker_objbody * T_objbody_mesh,
+// interpolated at the frame time plus the rig's tracker latency. Sessions with known per-frame object
+// poses (a tracker whose frame is "camera:<name>", e.g. a BOP import) link objects to the camera directly.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/camera.h"
+#include "core/frame_graph.h"
+#include "label/label_objects.h"
+#include "label/rig.h"
+#include "session/reader.h"
+
+namespace mocap {
+
+struct PoseChainOptions {
+  InterpolationOptions interpolation;
+  /// Relative object-camera speed is measured over [t - w, t + w].
+  int64_t speed_half_window_ns = 10'000'000;
+  double fast_motion_m_per_s = 0.5;    ///< flag `fast_motion` above this relative speed
+  double fast_motion_deg_per_s = 90.0;
+  void check() const;
+};
+
+/// One object instance in the camera: an object on one of its tracker bodies.
+struct LabelInstance {
+  uint16_t instance_id = 0;  ///< 1-based, stable across frames (the label PNG value)
+  const LabelObject* object = nullptr;
+  const BodyMount* mount = nullptr;
+};
+
+struct InstancePose {
+  std::optional<Rigid3d> T_camera_mesh;
+  /// Why there is no pose or why it is doubtful: missing_body, out_of_volume, gap, no_pose, fast_motion.
+  std::vector<std::string> flags;
+  std::string reason;           ///< one line when T_camera_mesh is empty
+  double interp_gap_ms = 0;     ///< longest tracker gap bridged by interpolation along the chain
+  double speed_m_per_s = -1;    ///< relative to the camera; -1 when it could not be measured
+  double speed_deg_per_s = -1;
+};
+
+class PoseChain {
+ public:
+  /// Throws InputError when the camera is not in the session, or the camera body is named but not
+  /// reported by any tracker in the session.
+  PoseChain(const SessionReader& session, const std::string& camera, const std::vector<LabelObject>& objects,
+            const Rig& rig, const PoseChainOptions& options = {});
+
+  const PinholeCamera& camera() const { return camera_; }
+  const std::vector<LabelInstance>& instances() const { return instances_; }
+  /// T_camera_mesh of instance `index` for the camera frame stamped `frame_stamp_ns`.
+  InstancePose Lookup(size_t index, int64_t frame_stamp_ns) const;
+
+ private:
+  std::string WorldNode(const SessionReader& session, const std::string& tracker) const;
+  void AddBody(const SessionReader& session, const std::string& body);
+
+  std::string camera_name_;
+  PinholeCamera camera_;
+  PoseChainOptions options_;
+  int64_t latency_ns_ = 0;
+  FrameGraph graph_;
+  std::vector<std::string> added_bodies_;
+  std::vector<LabelInstance> instances_;
+  std::vector<std::string> mesh_nodes_;
+  std::vector<std::string> unreported_;  ///< per instance: why its body cannot be looked up ("" if it can)
+};
+
+}  // namespace mocap

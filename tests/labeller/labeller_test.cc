@@ -1,0 +1,150 @@
+#include "label/labeller.h"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <opencv2/calib3d.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "cli/objects_yaml.h"
+#include "core/check.h"
+#include "labeller_test_util.h"
+
+namespace mocap {
+namespace {
+
+using testing::FreshDir;
+using testing::kMs;
+using testing::ReadJsonLines;
+
+const Eigen::Vector3d kMarker_mesh(0.03, -0.02, 0.0);
+
+LabelObject MarkerObject(const std::filesystem::path& dir, const testing::SyntheticRig& rig) {
+  testing::WriteMarkerSquareObj(dir / "marker.obj", kMarker_mesh, 1.0);
+  return {.id = 7, .name = "marker", .object_class = "marker", .mesh_path = dir / "marker.obj",
+          .unit_scale_to_m = 1.0, .mounts = {{"objbody", rig.T_objbody_mesh}}};
+}
+
+LabelOptions Options(const std::filesystem::path& out) {
+  LabelOptions options;
+  options.out_dir = out;
+  options.threads = 2;
+  options.output.write_overlay = true;
+  return options;
+}
+
+TEST(Labeller, PoseConventionsEndToEnd) {
+  // A known T_tracker_* chain must give T_camera_mesh in the record (rvec, t_m, quat_wxyz) and put the
+  // marked vertex where cv::projectPoints puts it with that rvec / t_m.
+  const auto dir = FreshDir("conventions");
+  const testing::SyntheticRig rig;
+  rig.WriteSession(dir / "S", 3);
+  const std::vector<LabelObject> objects = {MarkerObject(dir, rig)};
+  const LabelSummary summary = LabelSession(SessionReader::Open(dir / "S"), objects, Rig{}, Options(dir / "L"));
+  ASSERT_TRUE(summary.complete);
+  EXPECT_EQ(summary.frames, 3);
+  EXPECT_EQ(summary.records_with_pose, 3);
+  EXPECT_FALSE(std::filesystem::exists(dir / "L.partial"));
+  const auto lines = ReadJsonLines(dir / "L" / "labels.jsonl");
+  ASSERT_EQ(lines.size(), 3u);
+  const nlohmann::json& r = lines[0];
+  const Eigen::Vector3d rvec(r["rvec"][0], r["rvec"][1], r["rvec"][2]);
+  const Eigen::Vector3d t_m(r["t_m"][0], r["t_m"][1], r["t_m"][2]);
+  EXPECT_LT((rvec - rig.T_camera_mesh.rvec()).norm(), 1e-9);
+  EXPECT_LT((t_m - rig.T_camera_mesh.translation()).norm(), 1e-9);
+  const Eigen::Vector4d q = rig.T_camera_mesh.quat_wxyz();
+  for (int i = 0; i < 4; ++i) EXPECT_NEAR(r["quat_wxyz"][i].get<double>(), q[i], 1e-9);
+  EXPECT_EQ(r["object"], 7);
+  EXPECT_TRUE(r["flags"].empty()) << r.dump();
+
+  std::vector<cv::Point2d> expected;
+  const PinholeCamera cam = testing::TestCamera();
+  cv::projectPoints(std::vector<cv::Point3d>{{kMarker_mesh.x(), kMarker_mesh.y(), kMarker_mesh.z()}},
+                    cv::Vec3d(rvec.x(), rvec.y(), rvec.z()), cv::Vec3d(t_m.x(), t_m.y(), t_m.z()),
+                    cv::Matx33d(cam.fx, 0, cam.cx, 0, cam.fy, cam.cy, 0, 0, 1), cv::noArray(), expected);
+  const cv::Mat mask = cv::imread((dir / "L" / "cam" / "mask" / "000000_000001.png").string(), cv::IMREAD_UNCHANGED);
+  ASSERT_FALSE(mask.empty());
+  const cv::Moments m = cv::moments(mask, true);
+  ASSERT_GT(m.m00, 0);
+  EXPECT_NEAR(m.m10 / m.m00, expected[0].x, 0.5);
+  EXPECT_NEAR(m.m01 / m.m00, expected[0].y, 0.5);
+  EXPECT_TRUE(std::filesystem::exists(dir / "L" / "cam" / "overlay" / "000000.png"));
+  EXPECT_TRUE(std::filesystem::exists(dir / "L" / "cam" / "depth" / "000000.exr"));
+  std::filesystem::remove_all(dir);
+}
+
+TEST(Labeller, TrackerDropoutIsFlaggedNotFilled) {
+  const auto dir = FreshDir("dropout");
+  const testing::SyntheticRig rig;
+  // Frame 1 is stamped 53 ms: its object samples (50 and 60 ms) are missing.
+  rig.WriteSession(dir / "S", 3, 45 * kMs, 65 * kMs);
+  const LabelSummary summary =
+      LabelSession(SessionReader::Open(dir / "S"), {MarkerObject(dir, rig)}, Rig{}, Options(dir / "L"));
+  EXPECT_EQ(summary.records_with_pose, 2);
+  EXPECT_EQ(summary.flag_counts.at("missing_body"), 1);
+  const auto lines = ReadJsonLines(dir / "L" / "labels.jsonl");
+  ASSERT_EQ(lines.size(), 3u);
+  EXPECT_FALSE(lines[1].contains("rvec"));
+  EXPECT_NE(lines[1]["reason"].get<std::string>().find("missing"), std::string::npos);
+  std::filesystem::remove_all(dir);
+}
+
+TEST(Labeller, LatencyShiftsTheTrackerTime) {
+  // With a latency of -15 ms the frames (20, 53, 86 ms) read tracker times 5, 38 and 71 ms, whose
+  // bracketing samples all lie outside the [45, 65) dropout; without it frame 1 falls inside.
+  const auto dir = FreshDir("latency");
+  const testing::SyntheticRig rig;
+  rig.WriteSession(dir / "S", 3, 45 * kMs, 65 * kMs);
+  Rig latency;
+  latency.tracker_latency_ns = -15 * kMs;
+  const LabelSummary summary =
+      LabelSession(SessionReader::Open(dir / "S"), {MarkerObject(dir, rig)}, latency, Options(dir / "L"));
+  EXPECT_EQ(summary.records_with_pose, 3);
+  std::filesystem::remove_all(dir);
+}
+
+TEST(Labeller, BadInputGivesClearErrors) {
+  const auto dir = FreshDir("bad");
+  const testing::SyntheticRig rig;
+  rig.WriteSession(dir / "S", 1);
+  const SessionReader session = SessionReader::Open(dir / "S");
+  LabelObject missing = MarkerObject(dir, rig);
+  missing.mesh_path = dir / "nope.ply";
+  try {
+    LabelSession(session, {missing}, Rig{}, Options(dir / "L1"));
+    ADD_FAILURE() << "a missing mesh was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("nope.ply"), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(std::filesystem::exists(dir / "L1"));
+
+  // A BOP model (millimetres) declared as metres is 1000x too large.
+  LabelObject wrong_unit = MarkerObject(dir, rig);
+  wrong_unit.mesh_path = std::string(MOCAP_SHARED_DIR) + "/realdata/bop_lmo_scene2/models/obj_000001.ply";
+  try {
+    LabelSession(session, {wrong_unit}, Rig{}, Options(dir / "L2"));
+    ADD_FAILURE() << "a mesh in mm declared as metres was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("obj_000001.ply"), std::string::npos) << e.what();
+  }
+
+  Rig no_body;
+  no_body.cameras.push_back({.camera = "cam", .color_camera = {}, .body = "headbody", .T_body_camera = {}});
+  EXPECT_THROW(LabelSession(session, {MarkerObject(dir, rig)}, no_body, Options(dir / "L3")), InputError);
+
+  LabelObject unknown_body = MarkerObject(dir, rig);
+  unknown_body.mounts[0].body = "ghost";
+  const LabelSummary s = LabelSession(session, {unknown_body}, Rig{}, Options(dir / "L4"));
+  EXPECT_EQ(s.flag_counts.at("missing_body"), 1);
+
+  // Refuses to overwrite a folder that is not an earlier label output.
+  std::filesystem::create_directories(dir / "precious");
+  std::ofstream(dir / "precious" / "data.txt") << "keep";
+  EXPECT_THROW(LabelSession(session, {MarkerObject(dir, rig)}, Rig{}, Options(dir / "precious")), InputError);
+  EXPECT_TRUE(std::filesystem::exists(dir / "precious" / "data.txt"));
+  std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace mocap

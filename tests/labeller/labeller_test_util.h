@@ -1,0 +1,87 @@
+#pragma once
+// A tiny synthetic rig written as a real session: a camera on a tracked body looking at one tracked
+// object, with every transform known, so label outputs can be checked against hand-composed poses.
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "session/writer.h"
+
+namespace mocap::testing {
+
+inline constexpr int64_t kMs = 1'000'000;
+
+inline PinholeCamera TestCamera() {
+  return {.width = 320, .height = 240, .fx = 300, .fy = 300, .cx = 159.5, .cy = 119.5};
+}
+
+/// A 6 mm square (two triangles) centred on `centre_m` in the mesh frame, facing -z, as an OBJ file.
+inline void WriteMarkerSquareObj(const std::filesystem::path& path, const Eigen::Vector3d& centre_m, double scale) {
+  std::ofstream out(path);
+  const double h = 0.003;
+  for (const auto& [dx, dy] : std::vector<std::pair<double, double>>{{-h, -h}, {h, -h}, {h, h}, {-h, h}})
+    out << "v " << (centre_m.x() + dx) / scale << ' ' << (centre_m.y() + dy) / scale << ' ' << centre_m.z() / scale << '\n';
+  out << "f 1 2 3\nf 1 3 4\n";
+}
+
+struct SyntheticRig {
+  Rigid3d T_tracker_cambody = Rigid3d::FromRvec({0.1, -0.05, 0.2}, {0.3, -0.2, 1.5});
+  Rigid3d T_cambody_camera = Rigid3d::FromRvec({0.02, 0.3, -0.1}, {0.05, 0.01, -0.02});
+  Rigid3d T_objbody_mesh = Rigid3d::FromRvec({-0.2, 0.1, 0.4}, {0.01, -0.03, 0.02});
+  /// Placed so the mesh origin sits 0.8 m in front of the camera.
+  Rigid3d T_camera_mesh = Rigid3d::FromRvec({0.3, -0.2, 0.25}, {0.02, -0.01, 0.8});
+
+  Rigid3d T_tracker_objbody() const {
+    return T_tracker_cambody * T_cambody_camera * T_camera_mesh * T_objbody_mesh.inverse();
+  }
+
+  /// Writes `frames` camera frames at 30 Hz and 100 Hz tracker samples of both bodies. Object samples
+  /// in [dropout_begin_ns, dropout_end_ns) are written as missing.
+  void WriteSession(const std::filesystem::path& dir, int frames, int64_t dropout_begin_ns = -1,
+                    int64_t dropout_end_ns = -1) const {
+    SessionManifest manifest;
+    manifest.source = "test";
+    CameraStreamInfo cam;
+    cam.name = "cam";
+    cam.model = "sim";
+    cam.color_camera = cam.depth_camera = TestCamera();
+    cam.camera_body = "cambody";
+    cam.T_body_camera = T_cambody_camera;
+    manifest.cameras.push_back(cam);
+    manifest.trackers.push_back({"ndi", "sim", "", "tracker", {"cambody", "objbody"}});
+    auto writer = SessionWriter::Create(dir, manifest);
+    const int64_t end_ns = frames * 33 * kMs + 50 * kMs;
+    for (int64_t t = 0; t <= end_ns; t += 10 * kMs) {
+      writer->WriteTrackerSample("ndi", {"cambody", PoseStatus::kValid, t / (10 * kMs), 0, t, T_tracker_cambody, 0, 0});
+      const bool lost = t >= dropout_begin_ns && t < dropout_end_ns;
+      writer->WriteTrackerSample(
+          "ndi", {"objbody", lost ? PoseStatus::kMissing : PoseStatus::kValid, t / (10 * kMs), 0, t, T_tracker_objbody(), 0, 0});
+    }
+    const cv::Mat color(TestCamera().height, TestCamera().width, CV_8UC3, cv::Scalar(40, 40, 40));
+    for (int i = 0; i < frames; ++i) {
+      CameraFrameRecord record;
+      record.frame = i;
+      record.stamp_ns = 20 * kMs + i * 33 * kMs;
+      writer->WriteCameraFrame("cam", record, color, cv::Mat());
+    }
+    writer->Close();
+  }
+};
+
+inline std::vector<nlohmann::json> ReadJsonLines(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  std::vector<nlohmann::json> lines;
+  for (std::string line; std::getline(in, line);) lines.push_back(nlohmann::json::parse(line));
+  return lines;
+}
+
+inline std::filesystem::path FreshDir(const std::string& name) {
+  const auto dir = std::filesystem::temp_directory_path() / ("mocaplabel_" + name + "_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+}  // namespace mocap::testing
