@@ -56,9 +56,16 @@ SessionReader SessionReader::Open(const fs::path& dir, const SessionReaderOption
                          Str("body '", record.body, "' is not among the manifest's bodies of tracker '", tracker.name, "'"));
       stream.by_body[record.body].push_back(i);
     }
-    for (auto& [body, indices] : stream.by_body)
+    for (auto& [body, indices] : stream.by_body) {
       std::stable_sort(indices.begin(), indices.end(),
                        [&](size_t a, size_t b) { return stream.records[a].stamp_ns < stream.records[b].stamp_ns; });
+      auto& poses = stream.poses_by_body[body];
+      poses.reserve(indices.size());
+      for (size_t i : indices) {
+        const TrackerRecord& record = stream.records[i];
+        poses.push_back({record.stamp_ns, record.status, record.T_frame_body});
+      }
+    }
   }
   reader.events_ = ReadStream<EventRecord>(dir, "events.jsonl", options, EventRecordFromJson, &reader.diagnostics_);
   return reader;
@@ -127,11 +134,11 @@ std::vector<TrackerRecord> SessionReader::BodyRecords(const std::string& tracker
   return records;
 }
 
-std::vector<PoseSample> SessionReader::PoseSamples(const std::string& tracker, const std::string& body) const {
-  std::vector<PoseSample> samples;
-  for (const auto& record : BodyRecords(tracker, body))
-    samples.push_back({record.stamp_ns, record.status, record.T_frame_body});
-  return samples;
+const std::vector<PoseSample>& SessionReader::PoseSamples(const std::string& tracker, const std::string& body) const {
+  static const std::vector<PoseSample> kNone;
+  const TrackerStream& stream = tracker_stream(tracker);
+  const auto it = stream.poses_by_body.find(body);
+  return it == stream.poses_by_body.end() ? kNone : it->second;
 }
 
 std::optional<std::string> SessionReader::TrackerOfBody(const std::string& body) const {
@@ -165,7 +172,7 @@ InterpolatedPose SessionReader::CameraPoseAtFrame(const std::string& camera, int
     none.failure = InterpolationFailure::kEmptyStream;
     return none;
   }
-  const std::vector<PoseSample> samples = PoseSamples(*tracker, info->camera_body);
+  const std::vector<PoseSample>& samples = PoseSamples(*tracker, info->camera_body);
   InterpolatedPose result = InterpolatePose(samples, frame(camera, index).record.stamp_ns, options);
   if (result.ok()) result.pose = *result.pose * info->T_body_camera;
   return result;

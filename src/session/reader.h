@@ -74,7 +74,8 @@ class SessionReader {
   // file order).
   std::span<const TrackerRecord> tracker_records(const std::string& tracker) const;
   std::vector<TrackerRecord> BodyRecords(const std::string& tracker, const std::string& body) const;
-  std::vector<PoseSample> PoseSamples(const std::string& tracker, const std::string& body) const;
+  /// Built once at Open (cheap to call per frame); empty for a body without samples.
+  const std::vector<PoseSample>& PoseSamples(const std::string& tracker, const std::string& body) const;
   /// The tracker (name) that reports `body`, or nullopt.
   std::optional<std::string> TrackerOfBody(const std::string& body) const;
 
@@ -96,6 +97,7 @@ class SessionReader {
   struct TrackerStream {
     std::vector<TrackerRecord> records;
     std::map<std::string, std::vector<size_t>> by_body;  ///< indices sorted by stamp_ns
+    std::map<std::string, std::vector<PoseSample>> poses_by_body;  ///< same order
   };
   const CameraStream& camera_stream(const std::string& camera) const;
   const TrackerStream& tracker_stream(const std::string& tracker) const;

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
 
 #include "session/reader.h"
 #include "session/writer.h"
@@ -168,6 +169,35 @@ TEST(SessionRoundTrip, TumDepthUnitIsExact) {
   for (int i = 0; i < 65536; ++i)
     differing += depth.at(i % 256, i / 256) != static_cast<float>(i / 5000.0);
   EXPECT_EQ(differing, 0);
+}
+
+TEST(SessionRoundTrip, ImportedFilesAreLinkedNotReencoded) {
+  // Real TUM fr1/desk files registered as they are; a listed source that does not exist stays listed.
+  namespace fs = std::filesystem;
+  const fs::path root = fs::path(MOCAP_SHARED_DIR) / "realdata/tum_fr1_desk_9frames";
+  const fs::path rgb = root / "rgb/1305031453.359684.png", depth = root / "depth/1305031453.374112.png";
+  ASSERT_TRUE(fs::exists(rgb) && fs::exists(depth)) << "missing ../shared/realdata";
+  TempDir tmp;
+  {
+    auto writer = SessionWriter::Create(tmp.path() / "S", TwoCameraManifest());
+    writer->AddCameraFrameFiles("tum", {0, 0, 1'305'031'453'359'684'000, "1305031453.359684", "", ""}, rgb, depth);
+    writer->AddCameraFrameFiles("tum", {1, 0, 1'305'031'453'395'000'000, "1305031453.395000", "", ""},
+                                root / "rgb/1305031453.395000.png", fs::path());
+    EXPECT_THROW(writer->AddCameraFrameFiles("tum", {}, root / "rgb.txt", fs::path()), InputError);
+  }
+  const SessionReader reader = SessionReader::Open(tmp.path() / "S");
+  ASSERT_EQ(reader.frame_count("tum"), 2);
+  EXPECT_TRUE(reader.frame("tum", 0).color_present && reader.frame("tum", 0).depth_present);
+  EXPECT_EQ(fs::file_size(reader.ColorPath("tum", 0)), fs::file_size(rgb));  // the same bytes
+  const cv::Mat original = cv::imread(depth.string(), cv::IMREAD_UNCHANGED);
+  const DepthImage depth_m = reader.LoadDepth("tum", 0);
+  for (int v = 0; v < 480; v += 37)
+    for (int u = 0; u < 640; u += 41)
+      ASSERT_EQ(depth_m.at(u, v), static_cast<float>(original.at<uint16_t>(v, u) / 5000.0));
+  EXPECT_EQ(reader.frame("tum", 1).record.color_file, "color/000001.png");
+  EXPECT_TRUE(reader.frame("tum", 1).record.has_color());
+  EXPECT_FALSE(reader.frame("tum", 1).color_present);  // listed in rgb.txt, absent from the excerpt
+  EXPECT_FALSE(reader.frame("tum", 1).record.has_depth());
 }
 
 TEST(SessionRoundTrip, CreateRefusesNonEmptyFolder) {
