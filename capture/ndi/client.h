@@ -31,8 +31,8 @@ namespace mocap::ndi {
 /// A tool to load. With a .rom path the definition is uploaded (PHRQ + PVWR); without one, the
 /// handle the tracker already has (a wired tool) is used, in the order PHSR lists them.
 struct ToolSpec {
-  std::string name;      ///< the body name samples carry
-  std::string rom_path;  ///< NDI tool definition file; empty for an already-present handle
+  std::string name{};    ///< the body name samples carry
+  std::string rom_path{};  ///< NDI tool definition file; empty for an already-present handle
   ToolMode mode = ToolMode::kDynamic;
 };
 
@@ -41,9 +41,9 @@ struct NdiClientOptions {
   TransportKind transport = TransportKind::kTcp;
   std::string host = "127.0.0.1";
   int port = 8765;                 ///< Vega API port (8764 is TLS, not supported)
-  std::string serial_device;       ///< e.g. /dev/ttyUSB0
+  std::string serial_device{};     ///< e.g. /dev/ttyUSB0
   int serial_baud = 115200;        ///< switched to with COMM after INIT at 9600
-  std::vector<ToolSpec> tools;     ///< empty: every handle the tracker reports, named "handle-0A"
+  std::vector<ToolSpec> tools{};   ///< empty: every handle the tracker reports, named "handle-0A"
   double poll_rate_hz = 60;        ///< the tracker's reporting rate
   bool use_bx = true;              ///< binary BX; false: ASCII TX (fallback for old firmware)
   uint16_t reply_options = 0x0801; ///< transforms + status, also out of volume

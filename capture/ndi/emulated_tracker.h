@@ -21,7 +21,7 @@ struct EmulatedTrackerOptions {
   double noise_mm = 0;             ///< Gaussian noise (sigma, per axis) on positions
   double dropout = 0;              ///< probability that a body is MISSING in a frame
   uint64_t seed = 1;               ///< noise and dropouts are a function of (seed, body, frame)
-  std::optional<TrackingVolume> volume;
+  std::optional<TrackingVolume> volume{};
   /// Bodies appear as already-present (wired) handles 01, 02, ... after INIT; otherwise only through
   /// PHRQ + PVWR (passive tools). Either way PHRQ binds the next body whose handle is not yet initialised.
   bool preloaded_handles = true;

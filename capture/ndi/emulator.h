@@ -21,7 +21,7 @@ struct EmulatorOptions {
   int port = 8765;                  ///< 0: an ephemeral port (see Emulator::port())
   double latency_ms = 0;            ///< delay before each BX/TX reply
   double corrupt = 0;               ///< probability that a BX/TX reply gets one byte flipped
-  EmulatedTrackerOptions tracker;
+  EmulatedTrackerOptions tracker{};
   void check() const;
 };
 
