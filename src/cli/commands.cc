@@ -6,6 +6,7 @@ namespace mocap::cli {
 const std::vector<Command>& AllCommands() {
   static const std::vector<Command> commands = {
       {"version", "print the version", RunVersion},
+      {"ndi-emulator", "emulate an NDI tracker (Combined API) on loopback", RunNdiEmulator},
   };
   return commands;
 }

@@ -51,6 +51,7 @@ int main(int argc, char** argv) {
   reply.handles = {valid};
   const std::vector<uint8_t> bx_one = EncodeBx(reply);
   Write(dir, "bx_one_handle", 1, std::string(bx_one.begin(), bx_one.end()));
+  Write(dir, "bx_three_handles_repaired", 0x81, std::string(bx.begin(), bx.end()));
   reply.handles = {valid, missing, disabled};
   reply.handles[2].has_port_status = true;
   Write(dir, "tx_three_handles", 0, EncodeTxText(reply));
