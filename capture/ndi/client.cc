@@ -12,7 +12,6 @@
 namespace mocap::ndi {
 namespace {
 
-constexpr int kSerialProbeMs = 100;      // ndiSerialProbe's INIT timeout
 constexpr int kSerialResetMs = 7000;     // BREAK -> RESET may take this long (§1)
 
 void Add(LinkCounters& into, const LinkCounters& from) {
@@ -50,7 +49,7 @@ void NdiClientOptions::check() const {
   if (transport == TransportKind::kSerial) BaudRateFromBaud(serial_baud);
   if (!(poll_rate_hz > 0 && poll_rate_hz <= 2000)) throw InputError("ndi.poll_rate_hz", Str(poll_rate_hz, " is not in (0, 2000]"));
   if (!(reply_options & reply_option::kTransforms)) throw InputError("ndi.reply_options", "must include 0x0001 (transforms)");
-  if (connect_timeout_ms <= 0 || init_timeout_ms <= 0 || reply_timeout_ms <= 0) throw InputError("ndi timeouts", "must be positive");
+  if (connect_timeout_ms <= 0 || init_timeout_ms <= 0 || reply_timeout_ms <= 0 || serial_probe_timeout_ms <= 0) throw InputError("ndi timeouts", "must be positive");
   if (lost_after_failures < 1) throw InputError("ndi.lost_after_failures", "must be at least 1");
   if (reconnect_initial_ms <= 0 || reconnect_max_ms < reconnect_initial_ms)
     throw InputError("ndi.reconnect", "need 0 < reconnect_initial_ms <= reconnect_max_ms");
@@ -73,14 +72,18 @@ void NdiClient::Connect() {
   }
   link_ = std::make_unique<Link>(OpenSerial(options_.serial_device, 9600));
   try {
-    link_->Command(InitCommand(), kSerialProbeMs);
+    link_->Command(InitCommand(), options_.serial_probe_timeout_ms);
   } catch (const ReplyError&) {
-    // Not answering at 9600: reset it with a BREAK (back to 9600), wait for RESET, INIT again (§1).
+    // Not answering at 9600 (left at another rate?): a BREAK resets it to 9600 and it answers RESET
+    // (§1). Some USB-serial adapters drop the BREAK, so INIT is tried again either way.
     link_->transport().SendBreak();
     const std::optional<AsciiReply> reset = link_->ReadUnsolicited(kSerialResetMs);
-    if (!reset || reset->kind != ReplyKind::kReset)
-      throw TransportError(link_->transport().Describe() + ": no RESET reply after a serial break");
-    link_->Command(InitCommand(), options_.init_timeout_ms);
+    try {
+      link_->Command(InitCommand(), options_.init_timeout_ms);
+    } catch (const ReplyError& e) {
+      throw TransportError(link_->transport().Describe() + ": no reply to INIT at 9600" +
+                           (reset ? "" : ", nor RESET after a serial break") + " (" + e.what() + ")");
+    }
   }
   if (options_.serial_baud != 9600) {
     link_->Command(CommCommand(BaudRateFromBaud(options_.serial_baud)), options_.reply_timeout_ms);

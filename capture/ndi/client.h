@@ -50,6 +50,7 @@ struct NdiClientOptions {
   bool skip_repeated_frames = true;
   int connect_timeout_ms = 2000;
   int init_timeout_ms = 5000;      ///< first INIT over TCP may take up to 5 s (PlusLib)
+  int serial_probe_timeout_ms = 100; ///< serial INIT at 9600 before falling back to a BREAK (ndicapi)
   int reply_timeout_ms = 500;
   int lost_after_failures = 5;     ///< consecutive failed polls that count as a lost connection
   int reconnect_initial_ms = 100;  ///< backoff doubles from this ...
@@ -128,7 +129,8 @@ class NdiClient {
   void Open();
   /// TSTART and the polling thread. Open -> Streaming.
   void StartStreaming();
-  /// Stops polling, TSTOP, COMM:00000 on serial, closes. Any state -> Closed.
+  /// Stops polling, TSTOP, COMM:00000 on serial, closes. Any state -> Closed. While a reconnect
+  /// attempt is under way this waits for it (at most connect_timeout_ms + init_timeout_ms).
   void Close();
 
   State state() const { return state_.load(); }

@@ -77,8 +77,17 @@ AsciiReply Link::ReadAscii(std::string_view command, Clock::time_point deadline)
   return *reply.value;
 }
 
-std::string Link::Command(std::string_view command, int timeout_ms) {
+void Link::Send(std::string_view command) {
+  // Request/reply: anything already waiting is a late reply to an exchange that timed out. Dropping
+  // it keeps it from being read as the answer to this command.
+  while (transport_->Read(buffer_, 0) > 0) {
+  }
+  buffer_.clear();
   transport_->Write(FrameCommand(command));
+}
+
+std::string Link::Command(std::string_view command, int timeout_ms) {
+  Send(command);
   return ReadAscii(command, Clock::now() + std::chrono::milliseconds(timeout_ms)).text;
 }
 
@@ -92,7 +101,7 @@ TrackingReply Link::Tx(uint16_t options, int timeout_ms) {
 
 TrackingReply Link::Bx(uint16_t options, int timeout_ms) {
   const std::string command = BxCommand(options);
-  transport_->Write(FrameCommand(command));
+  Send(command);
   const auto deadline = Clock::now() + std::chrono::milliseconds(timeout_ms);
   if (!Fill(1, deadline)) Fail(ReplyError::Kind::kTimeout, 0, command + ": no reply from the tracker in time");
   if (buffer_[0] != (kBxStartSequence & 0xFF)) {

@@ -56,6 +56,7 @@ class Link {
 
  private:
   using Clock = std::chrono::steady_clock;
+  void Send(std::string_view command);
   /// Reads until `size` bytes are buffered; false at the deadline.
   bool Fill(size_t size, Clock::time_point deadline);
   /// Reads until a CR is buffered; returns its index or nullopt at the deadline.
