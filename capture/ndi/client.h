@@ -79,6 +79,11 @@ struct TrackerSample {
   std::vector<BodySample> bodies;
 };
 
+/// The body's entry for a core PoseStream (host receive time, status, T_tracker_body).
+inline PoseSample ToPoseSample(const TrackerSample& sample, const BodySample& body) {
+  return {sample.host_stamp_ns, body.status, body.T_tracker_body};
+}
+
 enum class TrackerEventKind {
   kConnected,      ///< setup done, tracking
   kDisconnected,   ///< connection lost; reconnecting

@@ -219,11 +219,15 @@ std::string EmulatedTracker::Tracking(std::string_view name, Params params, doub
     tracking.handles.push_back(report);
   }
   reply.tracking_data = true;
+  std::string bytes;
   if (name == "BX") {
     const std::vector<uint8_t> frame_bytes = EncodeBx(tracking);
-    return std::string(frame_bytes.begin(), frame_bytes.end());
+    bytes.assign(frame_bytes.begin(), frame_bytes.end());
+  } else {
+    bytes = FrameReply(EncodeTxText(tracking));
   }
-  return FrameReply(EncodeTxText(tracking));
+  reply.served = std::move(tracking);
+  return bytes;
 }
 
 HandleReport EmulatedTracker::Report(int body, uint32_t frame, uint16_t options) const {

@@ -30,8 +30,9 @@ struct EmulatedTrackerOptions {
 
 /// The reply to one command.
 struct EmulatorReply {
-  std::string bytes;
+  std::string bytes{};
   bool tracking_data = false;      ///< BX/TX data (latency and corruption apply to these)
+  TrackingReply served{};          ///< what the BX/TX reply carries, when tracking_data
   int new_baud = 0;                ///< COMM acknowledged: the line switches to this baud after the reply
 };
 

@@ -126,10 +126,10 @@ void Emulator::Serve(int fd, bool is_socket) {
     const int ready = ::poll(&pfd, 1, kPollMs);
     if (ready <= 0) continue;
     char buffer[4096];
-    const ssize_t n = (pfd.revents & POLLIN) ? ::read(fd, buffer, sizeof(buffer)) : -1;
-    if (n == 0 && is_socket) break;
-    if (n <= 0) {
-      if (is_socket && errno != EINTR && errno != EAGAIN) break;
+    const ssize_t n = (pfd.revents & POLLIN) ? ::read(fd, buffer, sizeof(buffer)) : 0;
+    if (n < 0 && (errno == EINTR || errno == EAGAIN)) continue;
+    if (n <= 0) {  // closed, hung up or failed
+      if (is_socket) break;
       std::this_thread::sleep_for(std::chrono::milliseconds(20));  // pty slave closed: wait for it to reopen
       continue;
     }
@@ -169,6 +169,7 @@ void Emulator::Reply(int fd, EmulatorReply reply, uint64_t& rng_state) {
     stats_.corrupted_replies += corrupted;
     if (reply.new_baud) stats_.last_baud = reply.new_baud;
   }
+  if (reply.tracking_data && on_served_) on_served_(reply.served, corrupted);
   WriteAll(fd, reply.bytes);
 }
 

@@ -5,6 +5,7 @@
 // model). `mocaplabel ndi-emulator` runs one; tests start one in process on an ephemeral port.
 #include <atomic>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -41,6 +42,11 @@ class Emulator {
   Emulator(const Emulator&) = delete;
   Emulator& operator=(const Emulator&) = delete;
 
+  /// Called (on a serving thread) with the content of every BX/TX reply sent, and whether a byte of
+  /// it was then corrupted: the ground truth of what a client received. Set before Start/ServeFd.
+  using ServedCallback = std::function<void(const TrackingReply& reply, bool corrupted)>;
+  void SetServedCallback(ServedCallback callback) { on_served_ = std::move(callback); }
+
   /// Binds and listens; throws InputError when the address cannot be bound. Tracking time starts now.
   void Start();
   /// Serves the tracker on `fd` (e.g. a pty master; not owned, not closed) on its own thread until
@@ -64,6 +70,7 @@ class Emulator {
   EmulatorOptions options_;
   std::shared_ptr<const TrajectorySource> trajectory_;
   EmulatedTracker model_;
+  ServedCallback on_served_;
   int64_t start_ns_ = 0;
   int listen_fd_ = -1;
   int port_ = 0;

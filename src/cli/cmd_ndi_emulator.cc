@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cstdio>
 #include <memory>
+#include <mutex>
 #include <nlohmann/json.hpp>
 
 #include "capture/ndi/emulator.h"
@@ -36,13 +37,36 @@ int OpenPty(std::string& slave_path) {
   return master;
 }
 
+// The --truth CSV: one row per body per served reply, in the tracker's units converted to metres.
+class TruthWriter {
+ public:
+  explicit TruthWriter(const std::string& path) : file_(std::fopen(path.c_str(), "w")) {
+    if (!file_) throw InputError(path, "cannot write the ground-truth file");
+    std::fprintf(file_, "frame,handle,status,x_m,y_m,z_m,qw,qx,qy,qz,port_status,corrupted\n");
+  }
+  ~TruthWriter() { std::fclose(file_); }
+  void Write(const ndi::TrackingReply& reply, bool corrupted) {
+    std::lock_guard lock(mutex_);
+    for (const ndi::HandleReport& h : reply.handles) {
+      std::fprintf(file_, "%u,%d,%s,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%u,%d\n", h.frame_number, h.handle,
+                   std::string(ndi::ToString(h.status)).c_str(), h.t_mm[0] * 1e-3, h.t_mm[1] * 1e-3, h.t_mm[2] * 1e-3,
+                   h.q_wxyz[0], h.q_wxyz[1], h.q_wxyz[2], h.q_wxyz[3], h.port_status, corrupted ? 1 : 0);
+    }
+    std::fflush(file_);
+  }
+
+ private:
+  std::FILE* file_;
+  std::mutex mutex_;
+};
+
 }  // namespace
 
 int RunNdiEmulator(int argc, char** argv) {
   CLI::App app{"Emulate an NDI tracker (Combined API over TCP or a pseudo-terminal)", "mocaplabel ndi-emulator"};
   ndi::EmulatorOptions options;
   int bodies = 2;
-  std::string script_path;
+  std::string script_path, truth_path;
   double duration_s = 0;
   bool passive = false, pty = false, json = false;
   app.add_option("--port", options.port, "TCP port (0: any free port)")->capture_default_str();
@@ -57,6 +81,7 @@ int RunNdiEmulator(int argc, char** argv) {
   app.add_option("--script", script_path, "trajectory script (docs/ndi.md)");
   app.add_flag("--passive", passive, "no preloaded handles: tools must be requested with PHRQ and uploaded with PVWR");
   app.add_flag("--pty", pty, "serve on a pseudo-terminal (serial path) instead of TCP; prints its path");
+  app.add_option("--truth", truth_path, "write every served BX/TX body to this CSV (ground truth)");
   app.add_option("--duration", duration_s, "stop after this many seconds (0: at SIGINT/SIGTERM)");
   app.add_flag("--json", json, "print one JSON document (where it listens) on stdout");
   CLI11_PARSE(app, argc, argv);
@@ -76,6 +101,11 @@ int RunNdiEmulator(int argc, char** argv) {
   ::pthread_sigmask(SIG_BLOCK, &signals, nullptr);
 
   ndi::Emulator emulator(options, trajectory);
+  std::unique_ptr<TruthWriter> truth;
+  if (!truth_path.empty()) {
+    truth = std::make_unique<TruthWriter>(truth_path);
+    emulator.SetServedCallback([&truth](const ndi::TrackingReply& reply, bool corrupted) { truth->Write(reply, corrupted); });
+  }
   std::string pty_path;
   int master = -1;
   if (pty) {

@@ -8,6 +8,7 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <array>
 #include <map>
 #include <mutex>
 #include <thread>
@@ -86,6 +87,12 @@ void ExpectMatchesTruth(const std::vector<TrackerSample>& samples, const Emulato
 TEST(NdiClient, TcpLoopbackDeliversWhatTheEmulatorServes) {
   auto truth = Circles(2);
   Emulator emulator({.port = 0, .tracker = {.rate_hz = 100, .noise_mm = 0.2, .seed = 3}}, truth);
+  std::mutex served_mutex;
+  std::map<std::pair<uint32_t, int>, std::array<double, 3>> served_mm;  // (frame, handle) -> position
+  emulator.SetServedCallback([&](const TrackingReply& reply, bool) {
+    std::lock_guard lock(served_mutex);
+    for (const HandleReport& h : reply.handles) served_mm[{h.frame_number, h.handle}] = h.t_mm;
+  });
   emulator.Start();
   Collector got;
   NdiClient client({.port = emulator.port(), .poll_rate_hz = 100}, got.samples(), got.events());
@@ -109,11 +116,20 @@ TEST(NdiClient, TcpLoopbackDeliversWhatTheEmulatorServes) {
     previous_ns = s.host_stamp_ns;
     for (const BodySample& b : s.bodies) {
       EXPECT_EQ(b.status, PoseStatus::kValid);
+      EXPECT_EQ(ToPoseSample(s, b).stamp_ns, s.host_stamp_ns);
       EXPECT_EQ(b.port_status, 0x31u);
       EXPECT_NEAR(b.rms_error_m, (0.1 + 0.5 * 0.2) * 1e-3, 1e-9);
     }
   }
   ExpectMatchesTruth(samples, emulator, *truth, 5 * 0.2e-3 * std::sqrt(3.0), {{1, 0}, {2, 1}});
+  // Exactly what was served (noise included), up to float precision.
+  std::lock_guard lock(served_mutex);
+  for (const TrackerSample& s : samples) {
+    for (const BodySample& b : s.bodies) {
+      const std::array<double, 3>& sent = served_mm.at({b.frame_number, b.handle});
+      for (int axis = 0; axis < 3; ++axis) EXPECT_NEAR(b.T_tracker_body.translation()[axis] * 1e3, sent[axis], 1e-3);
+    }
+  }
   const NdiClientStats stats = client.stats();
   EXPECT_EQ(stats.crc_errors, 0u);
   EXPECT_EQ(stats.samples, samples.size());

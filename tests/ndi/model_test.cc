@@ -150,6 +150,25 @@ TEST_F(EmulatedTrackerTest, PassiveToolSetupThenBx) {
   EXPECT_NEAR(h.t_mm[2], -1500.0, 1e-3);
 }
 
+TEST_F(EmulatedTrackerTest, GarbageCommandsGetErrorRepliesWithValidCrc) {
+  Send("INIT:");
+  Send("TSTART:");
+  uint64_t state = 9;
+  const std::string alphabet = "0123456789ABCDEF:* \rPHSRBXTINVWEQ";
+  for (int trial = 0; trial < 3000; ++trial) {
+    std::string line;
+    for (int i = 0; i < trial % 40; ++i) {
+      state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+      line += alphabet[(state >> 33) % alphabet.size()];
+    }
+    if (trial % 2) line = FrameCommand(line);  // half of them with a correct CRC, reaching the handlers
+    const EmulatorReply reply = tracker_.Handle(line, 1.0);
+    ASSERT_FALSE(reply.bytes.empty());
+    if (reply.tracking_data) continue;
+    ASSERT_TRUE(ParseAsciiReply(reply.bytes).ok()) << line;
+  }
+}
+
 TEST(NdiEmulatedTracker, VolumeAndForcedMissing) {
   TrajectoryScript script = ParseTrajectoryScript(
       "volume -100 100 -100 100 -2000 -1000 20\nstatic in 0 0 -1500\nstatic edge 90 0 -1500\n"
