@@ -119,7 +119,8 @@ struct NdiClientStats {
 class NdiClient {
  public:
   enum class State { kCreated, kOpen, kStreaming, kClosed };
-  /// Called on the client's polling thread; keep them short (hand off into a queue).
+  /// Called on the client's polling thread; keep them short (hand off into a queue), and do not call
+  /// Close() from them (it joins that thread).
   using SampleCallback = std::function<void(const TrackerSample&)>;
   using EventCallback = std::function<void(const TrackerEvent&)>;
 
