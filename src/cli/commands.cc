@@ -10,6 +10,7 @@ const std::vector<Command>& AllCommands() {
       {"import", "import tum|plus|motive|bop recordings into a session", RunImport},
       {"label", "label every frame: masks, rendered depth, poses and flags", RunLabel},
       {"doctor", "check headless rendering (EGL platform, driver, test render)", RunDoctor},
+      {"ndi-emulator", "emulate an NDI tracker (Combined API) on loopback", RunNdiEmulator},
   };
   return commands;
 }

@@ -7,5 +7,6 @@ int RunInfo(int argc, char** argv);
 int RunImport(int argc, char** argv);
 int RunDoctor(int argc, char** argv);
 int RunLabel(int argc, char** argv);
+int RunNdiEmulator(int argc, char** argv);
 
 }  // namespace mocap::cli
