@@ -88,6 +88,8 @@ class Renderer {
   /// Renders `items` into `camera` (its distortion included). Precondition: handles come from Upload,
   /// instance ids are > 0. Throws InputError for an invalid camera.
   RenderOutput Render(const PinholeCamera& camera, std::span<const RenderItem> items);
+  /// Same, into `out`, reusing its buffers (no per-frame allocation when called in a loop).
+  void Render(const PinholeCamera& camera, std::span<const RenderItem> items, RenderOutput& out);
 
   /// The canvas used for `camera` (created on first use, cached for the last camera).
   const RenderCanvas& CanvasFor(const PinholeCamera& camera);
