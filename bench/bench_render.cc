@@ -21,9 +21,10 @@ struct Scene {
   std::vector<RenderItem> items;
   DepthImage measured;
 
-  Scene(int objects, int triangles, bool distorted, int margin_percent = 100) {
+  Scene(int objects, int triangles, bool distorted, int margin_percent = 100, bool cull = false) {
     context = RenderContext::Create();
-    renderer = std::make_unique<Renderer>(*context, RendererOptions{.outside_margin_fraction = margin_percent / 100.0});
+    renderer = std::make_unique<Renderer>(
+        *context, RendererOptions{.outside_margin_fraction = margin_percent / 100.0, .cull_back_faces = cull});
     // Objects of 6-10 cm radius at 0.7-1.0 m, overlapping in the image as on a table top.
     for (int i = 0; i < objects; ++i) {
       const MeshHandle mesh = renderer->Upload(MakeSphereMesh(0.06 + 0.02 * (i % 3), triangles));
@@ -61,11 +62,11 @@ void BM_Render(benchmark::State& state) {
   SetCounters(state, scene);
 }
 
-/// Render only, with a canvas margin of range(3) percent of the image size on each side (100 = BOP's
+/// Render only, back faces culled when range(4) is 1, with a canvas margin of range(3) percent of the image size on each side (100 = BOP's
 /// 3x canvas, 0 = no amodal counts outside the image).
-void BM_RenderMargin(benchmark::State& state) {
+void BM_RenderOptions(benchmark::State& state) {
   Scene scene(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)), state.range(2) != 0,
-              static_cast<int>(state.range(3)));
+              static_cast<int>(state.range(3)), state.range(4) != 0);
   RenderOutput render;
   for (auto _ : state) {
     scene.renderer->Render(scene.camera, scene.items, render);
@@ -73,7 +74,7 @@ void BM_RenderMargin(benchmark::State& state) {
   }
   SetCounters(state, scene);
 }
-BENCHMARK(BM_RenderMargin)->ArgNames({"objects", "triangles", "distorted", "margin"})->Args({3, 2000, 0, 0})->Args({3, 2000, 0, 100})->Args({3, 20000, 0, 0})->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime()->UseRealTime();
+BENCHMARK(BM_RenderOptions)->ArgNames({"objects", "triangles", "distorted", "margin", "cull"})->Args({3, 20000, 0, 0, 0})->Args({3, 20000, 0, 100, 1})->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime()->UseRealTime();
 
 /// Render + labels: three masks per object and the BOP statistics against the measured depth.
 void BM_RenderAndLabel(benchmark::State& state) {

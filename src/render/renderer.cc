@@ -158,7 +158,15 @@ Renderer::Renderer(const RenderContext& context, const RendererOptions& options)
   gl_->clip_from_mesh = glGetUniformLocation(gl_->program, "clip_from_mesh");
   gl_->z_row = glGetUniformLocation(gl_->program, "z_row");
   gl_->framebuffers.resize(static_cast<size_t>(options.framebuffers));
-  glDisable(GL_CULL_FACE);  // scanned meshes are not always closed, and conventions.h mirrors the winding
+  if (options.cull_back_faces) {
+    // Image rows map to GL window rows unflipped (conventions.h), which mirrors the winding: a face whose
+    // outward normal points at the camera is clockwise in GL window coordinates.
+    glEnable(GL_CULL_FACE);
+    glFrontFace(GL_CW);
+    glCullFace(GL_BACK);
+  } else {
+    glDisable(GL_CULL_FACE);  // scanned meshes are not always closed
+  }
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
   glEnable(GL_SCISSOR_TEST);
