@@ -7,7 +7,7 @@ packages=(
   build-essential cmake ninja-build pkg-config git
   libeigen3-dev nlohmann-json3-dev libyaml-cpp-dev libcli11-dev
   libopencv-dev libopenexr-dev zlib1g-dev libassimp-dev libnanoflann-dev
-  libegl-dev libgles-dev libegl-mesa0 libgl1-mesa-dri
+  libegl-dev libgles-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri
   libusb-1.0-0-dev libfreenect-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   clang libclang-rt-14-dev

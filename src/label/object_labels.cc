@@ -18,18 +18,30 @@ double RayLength(const PinholeCamera& camera, int u, int v) {
   return camera.Ray({u, v}).norm();
 }
 
+/// Longest pixel ray (x, y, 1) of the image: at a corner (distortion is monotonic in the radius).
+double MaxRayLength(const PinholeCamera& camera) {
+  double longest = 1.0;
+  for (int u : {0, camera.width - 1})
+    for (int v : {0, camera.height - 1}) longest = std::max(longest, RayLength(camera, u, v));
+  return longest;
+}
+
 /// BOP19: visible when the measured depth is missing or the rendered distance exceeds the measured one
-/// by at most delta (`bop_toolkit_lib/visibility.py`, mode bop19).
+/// by at most delta (`bop_toolkit_lib/visibility.py`, mode bop19). The ray length (1 .. max_ray) is
+/// only computed when the bounds do not decide.
 bool VisibleInMeasured(const PinholeCamera& camera, int u, int v, float z_render, float z_measured,
-                       const VisibilityOptions& options) {
+                       double max_ray, const VisibilityOptions& options) {
   if (!(z_measured > 0.0f)) return true;
   const double dz = static_cast<double>(z_render) - z_measured;
   if (dz <= 0) return true;  // the surface is in front of (or at) what was measured: not occluded
-  return dz * RayLength(camera, u, v) <= options.delta_m(z_render);
+  const double delta = options.delta_m(z_render);
+  if (dz * max_ray <= delta) return true;
+  if (dz > delta) return false;
+  return dz * RayLength(camera, u, v) <= delta;
 }
 
 ObjectLabels LabelOne(const ObjectLayer& layer, const RenderOutput& render, const PinholeCamera& camera,
-                      const DepthImage* measured, const VisibilityOptions& options) {
+                      const DepthImage* measured, double max_ray, const VisibilityOptions& options) {
   ObjectLabels out;
   ObjectMasks& m = out.masks;
   ObjectStats& s = out.stats;
@@ -50,7 +62,7 @@ ObjectLabels LabelOne(const ObjectLayer& layer, const RenderOutput& render, cons
       if (!measured) continue;
       const float zm = measured->at(u, v);
       valid += zm > 0.0f;
-      if (VisibleInMeasured(camera, u, v, z, zm, options)) m.visible_measured[i] = 1, ++visible_measured;
+      if (VisibleInMeasured(camera, u, v, z, zm, max_ray, options)) m.visible_measured[i] = 1, ++visible_measured;
     }
   }
   s.bbox_obj = layer.bbox_obj;
@@ -106,7 +118,9 @@ std::vector<ObjectLabels> ComputeObjectLabels(const RenderOutput& render, const 
                                            " (register depth to the colour camera first)"));
   std::vector<ObjectLabels> labels;
   labels.reserve(render.layers.size());
-  for (const ObjectLayer& layer : render.layers) labels.push_back(LabelOne(layer, render, camera, measured_depth_m, options));
+  const double max_ray = MaxRayLength(camera);
+  for (const ObjectLayer& layer : render.layers)
+    labels.push_back(LabelOne(layer, render, camera, measured_depth_m, max_ray, options));
   return labels;
 }
 

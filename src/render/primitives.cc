@@ -14,8 +14,8 @@ Mesh MakeBoxMesh(const Eigen::Vector3d& size_m) {
   const Eigen::Vector3f h = (size_m / 2).cast<float>();
   for (int i = 0; i < 8; ++i)
     mesh.positions_m.emplace_back((i & 1) ? h.x() : -h.x(), (i & 2) ? h.y() : -h.y(), (i & 4) ? h.z() : -h.z());
-  // Two triangles per face; corner index bits are (x, y, z).
-  const uint32_t faces[6][4] = {{0, 2, 6, 4}, {1, 5, 7, 3}, {0, 4, 5, 1}, {2, 3, 7, 6}, {0, 1, 3, 2}, {4, 6, 7, 5}};
+  // Two triangles per face, counter-clockwise seen from outside; corner index bits are (x, y, z).
+  const uint32_t faces[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
   for (const auto& f : faces) mesh.indices.insert(mesh.indices.end(), {f[0], f[1], f[2], f[0], f[2], f[3]});
   return mesh;
 }

@@ -1,6 +1,7 @@
 #pragma once
 // Simple generated meshes (metres, mesh frame at their centre): the doctor's test cube, markers and
-// planes for projection and depth tests, and benchmark objects of a chosen triangle count.
+// planes for projection and depth tests, and benchmark objects of a chosen triangle count. Closed meshes
+// have outward, counter-clockwise faces.
 #include "render/mesh.h"
 
 namespace mocap {

@@ -41,6 +41,7 @@ struct Renderer::Gl {
   GLint clip_from_mesh = -1, z_row = -1;
   std::vector<GpuMesh> meshes;
   std::vector<gl::Framebuffer> framebuffers;
+  std::vector<float> readback;  // reused between frames
 
   ~Gl() {
     for (auto& m : meshes) {
@@ -78,11 +79,14 @@ Eigen::Matrix4f ClipFromMesh(const Eigen::Matrix4f& clip_from_camera, const Rigi
   return (clip_from_camera.cast<double>() * T_camera_mesh.matrix4()).cast<float>();
 }
 
-/// Turns the read-back canvas rectangle of one object into its image layer and amodal statistics.
-ObjectLayer MakeLayer(const RenderCanvas& canvas, const PixelRect& r, const std::vector<float>& canvas_depth,
-                      uint16_t instance_id) {
-  ObjectLayer layer;
+/// Turns the read-back canvas rectangle of one object into its image layer and amodal statistics
+/// (`layer`'s buffer is reused).
+void MakeLayer(const RenderCanvas& canvas, const PixelRect& r, const std::vector<float>& canvas_depth,
+               uint16_t instance_id, ObjectLayer& layer) {
   layer.instance_id = instance_id;
+  layer.px_count_all = 0;
+  layer.bbox_obj = {-1, -1, -1, -1};
+  layer.truncated_by_canvas = false;
   const CanvasIntrinsics& c = canvas.intrinsics();
   double u0 = 1e30, v0 = 1e30, u1 = -1e30, v1 = -1e30;
   for (int y = r.y; y < r.y + r.height; ++y) {
@@ -119,7 +123,6 @@ ObjectLayer MakeLayer(const RenderCanvas& canvas, const PixelRect& r, const std:
     const int x0 = static_cast<int>(std::lround(u0)), y0 = static_cast<int>(std::lround(v0));
     layer.bbox_obj = {x0, y0, static_cast<int>(std::lround(u1)) - x0, static_cast<int>(std::lround(v1)) - y0};
   }
-  return layer;
 }
 
 /// Nearest-wins composition of one layer into the instance and depth images (ties: earlier layer).
@@ -155,7 +158,15 @@ Renderer::Renderer(const RenderContext& context, const RendererOptions& options)
   gl_->clip_from_mesh = glGetUniformLocation(gl_->program, "clip_from_mesh");
   gl_->z_row = glGetUniformLocation(gl_->program, "z_row");
   gl_->framebuffers.resize(static_cast<size_t>(options.framebuffers));
-  glDisable(GL_CULL_FACE);  // scanned meshes are not always closed, and conventions.h mirrors the winding
+  if (options.cull_back_faces) {
+    // Image rows map to GL window rows unflipped (conventions.h), which mirrors the winding: a face whose
+    // outward normal points at the camera is clockwise in GL window coordinates.
+    glEnable(GL_CULL_FACE);
+    glFrontFace(GL_CW);
+    glCullFace(GL_BACK);
+  } else {
+    glDisable(GL_CULL_FACE);  // scanned meshes are not always closed
+  }
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
   glEnable(GL_SCISSOR_TEST);
@@ -197,6 +208,19 @@ const RenderCanvas& Renderer::CanvasFor(const PinholeCamera& camera) {
 }
 
 RenderOutput Renderer::Render(const PinholeCamera& camera, std::span<const RenderItem> items) {
+  RenderOutput out;
+  Render(camera, items, out);
+  return out;
+}
+
+/// Sizes `image` to w x h and zeroes it, reusing its memory.
+template <typename T>
+void ResetImage(Image<T>& image, int w, int h) {
+  if (image.width != w || image.height != h) image = Image<T>(w, h);
+  else std::fill(image.data.begin(), image.data.end(), T{});
+}
+
+void Renderer::Render(const PinholeCamera& camera, std::span<const RenderItem> items, RenderOutput& out) {
   camera.check();
   const RenderCanvas& canvas = CanvasFor(camera);
   const CanvasIntrinsics& c = canvas.intrinsics();
@@ -204,13 +228,14 @@ RenderOutput Renderer::Render(const PinholeCamera& camera, std::span<const Rende
   for (auto& f : gl_->framebuffers)
     if (f.width != c.width || f.height != c.height) f.Allocate(c.width, c.height, GL_R32F);
 
-  RenderOutput out{LabelImage(camera.width, camera.height), DepthImage(camera.width, camera.height), {}};
-  out.layers.reserve(items.size());
+  ResetImage(out.instance_ids, camera.width, camera.height);
+  ResetImage(out.depth_m, camera.width, camera.height);
+  out.layers.resize(items.size());
   glUseProgram(gl_->program);
   glViewport(0, 0, c.width, c.height);
   const size_t batch = gl_->framebuffers.size();
   std::vector<PixelRect> rects(items.size());
-  std::vector<float> readback;
+  std::vector<float>& readback = gl_->readback;
   for (size_t first = 0; first < items.size(); first += batch) {
     const size_t last = std::min(items.size(), first + batch);
     for (size_t i = first; i < last; ++i) {  // issue the draws of the batch, one framebuffer each
@@ -241,13 +266,12 @@ RenderOutput Renderer::Render(const PinholeCamera& camera, std::span<const Rende
         glBindFramebuffer(GL_READ_FRAMEBUFFER, gl_->framebuffers[i - first].fbo);
         glReadPixels(r.x, r.y, r.width, r.height, GL_RED, GL_FLOAT, readback.data());
       }
-      out.layers.push_back(MakeLayer(canvas, r, readback, items[i].instance_id));
-      Composite(out.layers.back(), out);
+      MakeLayer(canvas, r, readback, items[i].instance_id, out.layers[i]);
+      Composite(out.layers[i], out);
     }
   }
   glBindVertexArray(0);
   gl::CheckError("render");
-  return out;
 }
 
 }  // namespace mocap

@@ -70,6 +70,11 @@ struct RendererOptions {
   /// parts outside the image (1.0 = BOP's 3x canvas). Costs memory only: rasterisation is clipped to
   /// each object's projected bounding box.
   double outside_margin_fraction = 1.0;
+  /// Skip triangles facing away from the camera (meshes with outward counter-clockwise winding, as PLY /
+  /// OBJ exports of scans are). About halves the CPU rasteriser's triangle setup; silhouettes of closed
+  /// meshes are unchanged, but a mesh with holes shows them (its inside is not drawn), and a mesh with
+  /// inward winding disappears. Off by default for that reason.
+  bool cull_back_faces = false;
   /// Framebuffers in flight (pipelining on CPU rasterisers).
   int framebuffers = 3;
   void check() const;  ///< throws InputError
@@ -88,6 +93,8 @@ class Renderer {
   /// Renders `items` into `camera` (its distortion included). Precondition: handles come from Upload,
   /// instance ids are > 0. Throws InputError for an invalid camera.
   RenderOutput Render(const PinholeCamera& camera, std::span<const RenderItem> items);
+  /// Same, into `out`, reusing its buffers (no per-frame allocation when called in a loop).
+  void Render(const PinholeCamera& camera, std::span<const RenderItem> items, RenderOutput& out);
 
   /// The canvas used for `camera` (created on first use, cached for the last camera).
   const RenderCanvas& CanvasFor(const PinholeCamera& camera);

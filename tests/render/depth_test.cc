@@ -70,5 +70,33 @@ TEST(Depth, NearestObjectWinsAndLayersStayAmodal) {
   EXPECT_LT(visible_back, out.layers[1].px_count_all);
 }
 
+/// Rendering `mesh` with and without back-face culling gives the same depth image.
+void ExpectCullingInvisible(const Mesh& mesh) {
+  const PinholeCamera cam = TestCamera(false);
+  const RenderItem item{MeshHandle{0}, Rigid3d::FromRvec({0.4, -1.2, 0.3}, {0.02, -0.01, 0.6}), 1};
+  RenderOutput culled, full;
+  for (bool cull : {false, true}) {
+    const auto context = RenderContext::Create({.platform = EglPlatform::kSurfaceless});
+    Renderer renderer(*context, {.cull_back_faces = cull});
+    ASSERT_EQ(renderer.Upload(mesh).index, 0);
+    (cull ? culled : full) = renderer.Render(cam, std::span(&item, 1));
+  }
+  int differing = 0, covered = 0;
+  for (size_t i = 0; i < full.depth_m.data.size(); ++i) {
+    covered += full.depth_m.data[i] > 0;
+    differing += std::abs(full.depth_m.data[i] - culled.depth_m.data[i]) > 1e-5f;
+  }
+  EXPECT_GT(covered, 2000) << mesh.source;
+  EXPECT_LT(differing, covered / 200) << mesh.source << ": " << differing << " of " << covered << " pixels differ";
+}
+
+TEST(Depth, BackFaceCullingKeepsClosedSilhouettes) {
+  // Scanned BOP meshes and the generated ones have outward, counter-clockwise faces: culling back faces
+  // must not change what the camera sees.
+  for (const Mesh& mesh : {LoadMesh(std::string(MOCAP_SHARED_DIR) + "/realdata/bop_lmo_scene2/models/obj_000001.ply", 0.001),
+                           MakeBoxMesh({0.1, 0.05, 0.08}), MakeSphereMesh(0.05, 2000)})
+    ExpectCullingInvisible(mesh);
+}
+
 }  // namespace
 }  // namespace mocap

@@ -3,7 +3,9 @@
 // centroid of each rendered silhouette is compared with cv::projectPoints of the disc centre.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <thread>
 #include <opencv2/calib3d.hpp>
 
 #include "render/primitives.h"
@@ -134,6 +136,48 @@ TEST(Projection, AmodalBoxIncludesPartsOutsideTheImage) {
   for (uint16_t id : out.instance_ids.data) inside += id == 7;
   EXPECT_EQ(inside, 21 * 41);
   EXPECT_FALSE(layer.truncated_by_canvas);
+}
+
+TEST(Projection, DistortedAmodalBoxExtendsOutsideTheImage) {
+  // Through the Kinect v1 distortion, a square straddling the left border: its outside part is located
+  // through the distortion model, so bbox_obj starts left of the image and px_count_all exceeds the
+  // pixels inside.
+  const PinholeCamera cam = Kinect1Like(true);
+  const auto context = RenderContext::Create({.platform = EglPlatform::kSurfaceless});
+  Renderer renderer(*context);
+  const double z = 1.0;
+  const Eigen::Vector3d center = cam.Unproject({0.0, 240.0}, z);
+  const RenderItem item{renderer.Upload(MakeRectangleMesh(40.5 * z / cam.fx, 40.5 * z / cam.fy)),
+                        Rigid3d(Eigen::Quaterniond::Identity(), center), 5};
+  const RenderOutput out = renderer.Render(cam, std::span(&item, 1));
+  int inside = 0;
+  for (uint16_t id : out.instance_ids.data) inside += id == 5;
+  const ObjectLayer& layer = out.layers[0];
+  EXPECT_GT(inside, 0);
+  EXPECT_LT(layer.bbox_obj[0], -10);
+  EXPECT_GT(layer.px_count_all, inside + 300);
+  // The image centre of the square is at u = 0 by construction; its amodal box straddles it.
+  EXPECT_NEAR(layer.bbox_obj[0] + layer.bbox_obj[2] / 2.0, 0.0, 3.0);
+}
+
+TEST(Projection, OneContextPerThreadRendersTheSame) {
+  // The documented threading model: independent contexts on different threads, identical results.
+  const PinholeCamera cam = Kinect1Like(false);
+  auto render_in_thread = [&](LabelImage& ids) {
+    const auto context = RenderContext::Create({.platform = EglPlatform::kSurfaceless});
+    Renderer renderer(*context);
+    const MeshHandle sphere = renderer.Upload(MakeSphereMesh(0.08, 4000));
+    const std::vector<RenderItem> items = {{sphere, Rigid3d::FromRvec({0, 0, 0}, {0.0, 0.0, 0.8}), 1},
+                                           {sphere, Rigid3d::FromRvec({0, 0, 0}, {0.1, 0.05, 1.0}), 2}};
+    for (int i = 0; i < 5; ++i) ids = renderer.Render(cam, items).instance_ids;
+  };
+  LabelImage a, b;
+  std::thread ta(render_in_thread, std::ref(a)), tb(render_in_thread, std::ref(b));
+  ta.join();
+  tb.join();
+  ASSERT_EQ(a.data.size(), b.data.size());
+  EXPECT_EQ(a.data, b.data);
+  EXPECT_GT(std::count(a.data.begin(), a.data.end(), uint16_t{2}), 100);
 }
 
 }  // namespace
