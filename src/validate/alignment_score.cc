@@ -24,7 +24,7 @@ AlignmentScore ScoreAlignment(const PointCloud& crop_model, const Rigid3d& T_sce
   double d2 = 0.0;
   for (const auto& p_model : crop_model) {
     const Eigen::Vector3d p = R * p_model + t;
-    if (!scene.Nearest(p, &nearest, &d2) || d2 > tau_sq) continue;
+    if (!scene.Nearest(p, options.tau_m, &nearest, &d2) || d2 > tau_sq) continue;
     if (!claimed[nearest]) {
       // The common case: the closest point is free. Equivalent to the paper's radius search, whose
       // sorted result starts with this point, at the cost of a single 1-NN query.

@@ -47,7 +47,7 @@ Moments Correspond(const PointCloud& source, const KdTree& target, const Rigid3d
   double d2 = 0.0;
   for (size_t i = 0; i < source.size(); i += static_cast<size_t>(stride)) {
     const Eigen::Vector3d& s = source[i];
-    if (target.Nearest(R * s + t, &index, &d2) && d2 <= gate_sq) m.Add(s, target.point(index), d2);
+    if (target.Nearest(R * s + t, gate_m, &index, &d2) && d2 <= gate_sq) m.Add(s, target.point(index), d2);
   }
   return m;
 }

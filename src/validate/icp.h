@@ -18,7 +18,7 @@ struct IcpOptions {
   /// start several centimetres off is pulled in before the tight gate rejects clutter.
   double initial_correspondence_distance_m = 0.05;
   double gate_shrink = 0.7;
-  int max_iterations = 30;
+  int max_iterations = 60;
   /// Converged when one update moves less than both of these (and the gate is at its final value).
   double translation_epsilon_m = 1e-4;
   double rotation_epsilon_deg = 0.03;

@@ -32,16 +32,44 @@ KdTree::KdTree(const PointCloud& points, int leaf_max_size) : points_(points.siz
 
 KdTree::~KdTree() = default;
 
-bool KdTree::Nearest(const Eigen::Vector3d& query, size_t* index, double* distance_sq_m2) const {
+namespace {
+
+/// nanoflann result set for the single nearest point within a bound: the bound is the initial worst
+/// distance, so subtrees beyond it are never visited.
+class NearestWithin {
+ public:
+  explicit NearestWithin(float bound_sq) : best_sq_(bound_sq) {}
+  size_t size() const { return found_ ? 1 : 0; }
+  bool full() const { return true; }
+  bool addPoint(float distance_sq, size_t index) {
+    if (distance_sq < best_sq_) {
+      best_sq_ = distance_sq;
+      index_ = index;
+      found_ = true;
+    }
+    return true;
+  }
+  float worstDist() const { return best_sq_; }
+  bool found() const { return found_; }
+  size_t index() const { return index_; }
+
+ private:
+  float best_sq_;
+  size_t index_ = 0;
+  bool found_ = false;
+};
+
+}  // namespace
+
+bool KdTree::Nearest(const Eigen::Vector3d& query, double max_distance_m, size_t* index,
+                     double* distance_sq_m2) const {
   if (points_.empty()) return false;
   const Eigen::Vector3f q = query.cast<float>();
-  size_t found = 0;
-  float distance_sq = 0.0f;
-  nanoflann::KNNResultSet<float, size_t> result(1);
-  result.init(&found, &distance_sq);
+  NearestWithin result(static_cast<float>(max_distance_m * max_distance_m));
   index_->findNeighbors(result, q.data(), nanoflann::SearchParams());
-  *index = found;
-  *distance_sq_m2 = distance_sq;
+  if (!result.found()) return false;
+  *index = result.index();
+  *distance_sq_m2 = (points_[result.index()] - q).squaredNorm();
   return true;
 }
 

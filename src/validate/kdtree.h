@@ -21,8 +21,9 @@ class KdTree {
   /// The stored point `index` (float precision), metres.
   Eigen::Vector3d point(size_t index) const { return points_[index].cast<double>(); }
 
-  /// Nearest stored point to `query`: returns false when the tree is empty.
-  bool Nearest(const Eigen::Vector3d& query, size_t* index, double* distance_sq_m2) const;
+  /// Nearest stored point to `query` strictly within `max_distance_m`: returns false when there is none.
+  /// The bound prunes the descent, which makes queries far from the cloud (bad hypotheses) cheap.
+  bool Nearest(const Eigen::Vector3d& query, double max_distance_m, size_t* index, double* distance_sq_m2) const;
 
   /// All stored points within `radius_m`, sorted by increasing distance, as (index, distance^2).
   void Radius(const Eigen::Vector3d& query, double radius_m, std::vector<std::pair<size_t, float>>* out) const;
