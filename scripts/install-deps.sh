@@ -10,6 +10,7 @@ packages=(
   libegl-dev libgles-dev libegl-mesa0 libgl1-mesa-dri
   libusb-1.0-0-dev libfreenect-dev
   libgtest-dev libgmock-dev libbenchmark-dev
+  libpcl-dev
 )
 
 missing=()

@@ -16,11 +16,15 @@ struct TrackingOptions {
   /// Scene points farther than this outside the model's bounding box at the predicted pose are pruned
   /// ("removing points outside a bounding box of the latest registered model pose").
   double box_margin_m = 0.02;
+  /// Tight convergence: point-to-point ICP slides slowly along planar faces, and a loose stop leaves
+  /// millimetres of slide in the pose.
   IcpOptions icp = [] {
     IcpOptions o;
     o.initial_correspondence_distance_m = 0.02;
-    o.max_iterations = 30;
+    o.max_iterations = 40;
     o.source_stride = 2;
+    o.translation_epsilon_m = 2e-5;
+    o.rotation_epsilon_deg = 0.005;
     return o;
   }();
   void check() const;
