@@ -14,6 +14,8 @@ if(BUILD_TESTING)
 endif()
 if(BUILD_BENCHMARKS)
   find_package(benchmark REQUIRED)
+  # The validator benchmark's baseline (pcl::IterativeClosestPoint); only bench/ links it.
+  find_package(PCL 1.10 QUIET COMPONENTS common io registration kdtree search)
 endif()
 find_package(ZLIB REQUIRED)
 find_package(OpenEXR 3 REQUIRED CONFIG)

@@ -11,6 +11,7 @@ packages=(
   libusb-1.0-0-dev libfreenect-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   clang libclang-rt-14-dev
+  libpcl-dev
 )
 
 missing=()

@@ -1,0 +1,185 @@
+// SegICP validator benchmark on real Kinect data (PCL's milk scene, model = milk.pcd, true pose =
+// identity): the acquisition (30 hypotheses + refinement) and one tracking step, with our ICP and with
+// pcl::IterativeClosestPoint on the same clouds, hypotheses and scores, in one run. Prints the ratios.
+#include <benchmark/benchmark.h>
+#include <omp.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <map>
+#include <random>
+#include <string>
+
+#include "../tests/validate/pcd_reader.h"
+#include "pcl_baseline.h"
+#include "validate/acquisition.h"
+#include "validate/pose_filter.h"
+#include "validate/validate_options.h"
+
+namespace mocap {
+namespace {
+
+struct Fixture {
+  PointCloud model, scene;
+  std::unique_ptr<SurfaceCropSource> source;
+  std::vector<Rigid3d> priors;   // acquisition starts, up to 3 cm / 20 deg off
+  Rigid3d predicted;             // tracking prediction, 5 mm / 2 deg off
+  ValidateOptions options;
+};
+
+Rigid3d AboutCenter(const Rigid3d& delta, const Eigen::Vector3d& c) {
+  return Rigid3d::FromRvec({0, 0, 0}, delta.translation() + c) * Rigid3d(delta.rotation(), -(delta.rotation() * c));
+}
+
+Rigid3d Perturbation(std::mt19937& rng, double t_m, double deg) {
+  std::normal_distribution<double> n(0, 1);
+  const Eigen::Vector3d axis = Eigen::Vector3d(n(rng), n(rng), n(rng)).normalized();
+  const Eigen::Vector3d dir = Eigen::Vector3d(n(rng), n(rng), n(rng)).normalized();
+  return Rigid3d::FromRvec(axis * RadFromDeg(deg), dir * t_m);
+}
+
+const Fixture& Data() {
+  static const Fixture f = [] {
+    Fixture x;
+    const std::string dir = std::string(MOCAP_SHARED_DIR) + "/realdata/pcl/";
+    x.model = testing::FinitePoints(testing::ReadPcd(dir + "milk.pcd").points);
+    const Box3d box = BoundingBox(x.model, 0.015);
+    for (const auto& p : testing::FinitePoints(testing::ReadPcd(dir + "milk_cartoon_all_small_clorox.pcd").points))
+      if (box.contains(p)) x.scene.push_back(p);
+    x.scene = VoxelDownsample(x.scene, x.options.scene_voxel_m);
+    x.source = std::make_unique<SurfaceCropSource>(x.model, x.options.crop);
+    std::mt19937 rng(21);
+    const Eigen::Vector3d c = Centroid(x.model);
+    for (int i = 0; i < 8; ++i) x.priors.push_back(AboutCenter(Perturbation(rng, 0.03, 20.0), c));
+    x.predicted = AboutCenter(Perturbation(rng, 0.005, 2.0), c);
+    return x;
+  }();
+  return f;
+}
+
+/// Worst error against the true pose (the identity) over the benchmark's iterations (the starts cycle).
+void Report(benchmark::State& state, const Rigid3d& estimate) {
+  const double mm = 1e3 * TranslationDistanceM(estimate, Rigid3d::Identity());
+  const double deg = RotationDistanceDeg(estimate, Rigid3d::Identity());
+  state.counters["worst_mm"] = std::max(static_cast<double>(state.counters["worst_mm"]), mm);
+  state.counters["worst_deg"] = std::max(static_cast<double>(state.counters["worst_deg"]), deg);
+}
+
+void BM_Acquisition_Ours(benchmark::State& state) {
+  const Fixture& f = Data();
+  size_t k = 0;
+  for (auto _ : state) {
+    const KdTree tree(f.scene);
+    const AcquisitionResult r = AcquireAround(f.scene, tree, *f.source, f.priors[k++ % f.priors.size()],
+                                              f.options.acquisition, f.options.alignment);
+    Report(state, r.T_camera_model);
+  }
+}
+
+/// The same hypotheses (crops and starts taken from our acquisition, untimed), registered by PCL ICP with
+/// our gate schedule's end points, scored by the same metric; the winner refined by PCL ICP.
+void BM_Acquisition_Pcl(benchmark::State& state) {
+  const Fixture& f = Data();
+  std::vector<AcquisitionResult> setups;
+  for (const auto& prior : f.priors) {
+    const KdTree tree(f.scene);
+    setups.push_back(AcquireAround(f.scene, tree, *f.source, prior, f.options.acquisition, f.options.alignment));
+  }
+  const bench::PclIcpSettings hyp{f.options.acquisition.icp.initial_correspondence_distance_m,
+                                  f.options.acquisition.icp.max_iterations, 1e-8};
+  const bench::PclIcpSettings refine{f.options.acquisition.refine_icp.max_correspondence_distance_m,
+                                     f.options.acquisition.refine_icp.max_iterations, 1e-10};
+  size_t k = 0;
+  for (auto _ : state) {
+    const AcquisitionResult& s = setups[k++ % setups.size()];
+    const bench::PclScene pcl_scene(f.scene);
+    const KdTree tree(f.scene);
+    std::vector<Rigid3d> poses(s.hypotheses.size());
+    std::vector<double> scores(s.hypotheses.size());
+#pragma omp parallel for schedule(dynamic, 1)
+    for (int i = 0; i < static_cast<int>(s.hypotheses.size()); ++i) {
+      const PointCloud& crop = s.crops[s.hypotheses[i].crop_index].points_model;
+      poses[i] = pcl_scene.Align(crop, s.hypotheses[i].T_camera_model_init, hyp);
+      scores[i] = ScoreAlignment(crop, poses[i], tree, f.options.alignment).score;
+    }
+    const size_t best = static_cast<size_t>(std::max_element(scores.begin(), scores.end()) - scores.begin());
+    const ModelCrop crop = f.source->Crop(poses[best]);
+    Report(state, pcl_scene.Align(crop.points_model, poses[best], refine));
+  }
+}
+
+void BM_Tracking_Ours(benchmark::State& state) {
+  const Fixture& f = Data();
+  const Box3d box = BoundingBox(f.source->surface_model(), f.options.tracking.box_margin_m);
+  PoseFilter filter(f.options.filter);
+  filter.Initialize(f.predicted, 0, 1.0);
+  int64_t stamp = 0;
+  for (auto _ : state) {
+    filter.Predict(stamp += 33'333'333);
+    const PointCloud pruned = CropToBox(f.scene, f.predicted, box);
+    const KdTree tree(pruned);
+    const ModelCrop crop = f.source->Crop(f.predicted);
+    const IcpResult r = AlignPointToPoint(crop.points_model, tree, f.predicted, f.options.tracking.icp);
+    state.counters["icp_its"] = r.iterations;
+    const double score = ScoreAlignment(crop.points_model, r.T_target_source, tree, f.options.alignment).score;
+    benchmark::DoNotOptimize(filter.Update(r.T_target_source, score));
+    Report(state, r.T_target_source);
+  }
+}
+
+void BM_Tracking_Pcl(benchmark::State& state) {
+  const Fixture& f = Data();
+  const Box3d box = BoundingBox(f.source->surface_model(), f.options.tracking.box_margin_m);
+  const bench::PclIcpSettings settings{f.options.tracking.icp.initial_correspondence_distance_m,
+                                       f.options.tracking.icp.max_iterations, 1e-10};
+  for (auto _ : state) {
+    const PointCloud pruned = CropToBox(f.scene, f.predicted, box);
+    const bench::PclScene pcl_scene(pruned);
+    const KdTree tree(pruned);
+    const ModelCrop crop = f.source->Crop(f.predicted);
+    const Rigid3d T = pcl_scene.Align(crop.points_model, f.predicted, settings);
+    benchmark::DoNotOptimize(ScoreAlignment(crop.points_model, T, tree, f.options.alignment).score);
+    Report(state, T);
+  }
+}
+
+BENCHMARK(BM_Acquisition_Ours)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(16);
+BENCHMARK(BM_Acquisition_Pcl)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(8);
+BENCHMARK(BM_Tracking_Ours)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(1.0);
+BENCHMARK(BM_Tracking_Pcl)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(1.0);
+
+/// Console output plus the per-benchmark real time, for the ratios printed at the end.
+class RatioReporter : public benchmark::ConsoleReporter {
+ public:
+  void ReportRuns(const std::vector<Run>& runs) override {
+    for (const auto& run : runs) ms_[run.benchmark_name()] = run.GetAdjustedRealTime();
+    ConsoleReporter::ReportRuns(runs);
+  }
+  void PrintRatios() const {
+    for (const char* phase : {"Acquisition", "Tracking"}) {
+      const auto find = [&](const std::string& prefix) {
+        auto it = ms_.lower_bound(prefix);
+        return it != ms_.end() && it->first.rfind(prefix, 0) == 0 ? it : ms_.end();
+      };
+      const auto ours = find(std::string("BM_") + phase + "_Ours/");
+      const auto pcl = find(std::string("BM_") + phase + "_Pcl/");
+      if (ours != ms_.end() && pcl != ms_.end())
+        std::printf("%s: ours %.2f ms, PCL %.2f ms, PCL/ours = %.1fx (%d threads)\n", phase, ours->second,
+                    pcl->second, pcl->second / ours->second, omp_get_max_threads());
+    }
+  }
+
+ private:
+  std::map<std::string, double> ms_;
+};
+
+}  // namespace
+}  // namespace mocap
+
+int main(int argc, char** argv) {
+  benchmark::Initialize(&argc, argv);
+  mocap::RatioReporter reporter;
+  benchmark::RunSpecifiedBenchmarks(&reporter);
+  reporter.PrintRatios();
+  return 0;
+}

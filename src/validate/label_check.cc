@@ -1,0 +1,157 @@
+#include "validate/label_check.h"
+
+#include <algorithm>
+#include <cstdio>
+
+#include "core/check.h"
+
+namespace mocap {
+namespace {
+
+std::string Fixed(double value, int digits) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.*f", digits, value);
+  return buffer;
+}
+
+LabelCheck BadInput(VerdictReason code, std::string reason, int points = 0) {
+  LabelCheck check;
+  check.verdict = Verdict::kSuspect;
+  check.reason_code = code;
+  check.reason = std::move(reason);
+  check.scene_points = points;
+  return check;
+}
+
+/// Label score, errors, success and verdict once an estimate (or none) is known.
+void Finish(const KdTree& tree, const Rigid3d& label, const CropSource& model, const ValidateOptions& options,
+            LabelCheck* check) {
+  check->label_score = ScoreAlignment(model.Crop(label).points_model, label, tree, options.alignment).score;
+  if (check->estimated) {
+    check->errors = ComputePoseErrors(check->T_camera_object_segicp, label);
+    check->success = check->errors.position_mm < 1e3 * options.verdict.success_position_m &&
+                     check->errors.rotation_axis_deg < options.verdict.success_rotation_deg &&
+                     check->errors.rotation_angle_deg < options.verdict.success_rotation_deg;
+    check->segicp_reliable = check->segicp_score >= options.acquisition.epsilon;
+  }
+  DecideVerdict(options.verdict, check);
+}
+
+}  // namespace
+
+std::string_view ToString(Verdict verdict) {
+  switch (verdict) {
+    case Verdict::kAccept: return "accept";
+    case Verdict::kSuspect: return "suspect";
+    case Verdict::kReject: return "reject";
+  }
+  return "unknown";
+}
+
+std::string_view ToString(VerdictReason reason) {
+  switch (reason) {
+    case VerdictReason::kAgrees: return "agrees";
+    case VerdictReason::kDiffers: return "differs";
+    case VerdictReason::kDisagrees: return "disagrees";
+    case VerdictReason::kNoReliableEstimate: return "no_reliable_estimate";
+    case VerdictReason::kLabelDoesNotFit: return "label_does_not_fit";
+    case VerdictReason::kNoDepth: return "no_depth";
+    case VerdictReason::kMaskSizeMismatch: return "mask_size_mismatch";
+    case VerdictReason::kEmptyMask: return "empty_mask";
+    case VerdictReason::kTooFewPoints: return "too_few_points";
+  }
+  return "unknown";
+}
+
+PoseErrors ComputePoseErrors(const Rigid3d& estimate, const Rigid3d& reference) {
+  return {1e3 * TranslationDistanceM(estimate, reference), RotationAxisDistanceDeg(estimate, reference),
+          RotationDistanceDeg(estimate, reference)};
+}
+
+void DecideVerdict(const VerdictOptions& o, LabelCheck* c) {
+  const std::string label_score = Str("label score ", Fixed(c->label_score, 2));
+  if (!c->segicp_reliable) {
+    const bool misfit = c->label_score < o.reject_label_score;
+    c->verdict = misfit ? Verdict::kReject : Verdict::kSuspect;
+    c->reason_code = misfit ? VerdictReason::kLabelDoesNotFit : VerdictReason::kNoReliableEstimate;
+    c->reason = Str(misfit ? "label does not fit the depth" : "no reliable SegICP estimate", " (best score ",
+                    Fixed(c->segicp_score, 2), ", ", label_score, ")");
+    return;
+  }
+  const double position_m = c->errors.position_mm * 1e-3, angle = c->errors.rotation_angle_deg;
+  const std::string differs = Str("SegICP differs by ", Fixed(c->errors.position_mm, 1), " mm, ",
+                                  Fixed(angle, 1), " deg (score ", Fixed(c->segicp_score, 2), ", ", label_score, ")");
+  if (position_m <= o.accept_position_m && angle <= o.accept_rotation_deg) {
+    c->verdict = Verdict::kAccept;
+    c->reason_code = VerdictReason::kAgrees;
+  } else if (position_m > o.reject_position_m || angle > o.reject_rotation_deg) {
+    c->verdict = Verdict::kReject;
+    c->reason_code = VerdictReason::kDisagrees;
+  } else {
+    c->verdict = Verdict::kSuspect;
+    c->reason_code = VerdictReason::kDiffers;
+  }
+  c->reason = differs;
+}
+
+LabelCheck CheckLabel(const PointCloud& scene_camera, const Rigid3d& T_camera_object_label, const CropSource& model,
+                      const std::vector<ModelCrop>& view_crops, const ValidateOptions& options) {
+  const PointCloud scene = VoxelDownsample(scene_camera, options.scene_voxel_m);
+  if (static_cast<int>(scene.size()) < options.min_scene_points)
+    return BadInput(VerdictReason::kTooFewPoints,
+                    Str("too few scene points (", scene.size(), " < ", options.min_scene_points, ")"),
+                    static_cast<int>(scene.size()));
+  const KdTree tree(scene);
+  const AcquisitionResult r =
+      options.check_seed == AcquisitionSeed::kLabel
+          ? AcquireAround(scene, tree, model, T_camera_object_label, options.acquisition, options.alignment)
+          : Acquire(scene, tree, model, view_crops, options.acquisition, options.alignment);
+  LabelCheck check;
+  check.scene_points = static_cast<int>(scene.size());
+  if (r.best >= 0) {
+    check.estimated = true;
+    check.T_camera_object_segicp = r.T_camera_model;
+    check.segicp_score = r.score;
+    check.icp = r.refine;
+  }
+  Finish(tree, T_camera_object_label, model, options, &check);
+  return check;
+}
+
+LabelCheck CheckLabelWithTrack(const PointCloud& scene_camera, const Rigid3d& T_camera_object_label,
+                               const CropSource& model, const TrackStep& track, const ValidateOptions& options) {
+  const PointCloud scene = VoxelDownsample(scene_camera, options.scene_voxel_m);
+  if (static_cast<int>(scene.size()) < options.min_scene_points)
+    return BadInput(VerdictReason::kTooFewPoints,
+                    Str("too few scene points (", scene.size(), " < ", options.min_scene_points, ")"),
+                    static_cast<int>(scene.size()));
+  const KdTree tree(scene);
+  LabelCheck check;
+  check.scene_points = static_cast<int>(scene.size());
+  if (track.measured) {
+    check.estimated = true;
+    check.T_camera_object_segicp = track.T_camera_object_measured;
+    check.segicp_score = track.score;
+    check.icp = track.icp;
+  }
+  Finish(tree, T_camera_object_label, model, options, &check);
+  return check;
+}
+
+LabelCheck CheckLabelInFrame(const DepthImage& depth_m, const PinholeCamera& camera, const LabelImage& mask,
+                             uint16_t label_id, const Rigid3d& T_camera_object_label, const CropSource& model,
+                             const std::vector<ModelCrop>& view_crops, const ValidateOptions& options) {
+  if (depth_m.empty()) return BadInput(VerdictReason::kNoDepth, "frame has no depth image");
+  if (mask.width != depth_m.width || mask.height != depth_m.height)
+    return BadInput(VerdictReason::kMaskSizeMismatch, Str("mask is ", mask.width, "x", mask.height, ", depth is ",
+                                                          depth_m.width, "x", depth_m.height));
+  if (camera.width != depth_m.width || camera.height != depth_m.height)
+    return BadInput(VerdictReason::kMaskSizeMismatch, Str("camera is ", camera.width, "x", camera.height,
+                                                          ", depth is ", depth_m.width, "x", depth_m.height));
+  if (label_id == 0 || std::find(mask.data.begin(), mask.data.end(), label_id) == mask.data.end())
+    return BadInput(VerdictReason::kEmptyMask, Str("mask has no pixel of label ", label_id));
+  return CheckLabel(DepthToPointsMasked(depth_m, camera, mask, label_id), T_camera_object_label, model, view_crops,
+                    options);
+}
+
+}  // namespace mocap

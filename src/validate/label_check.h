@@ -1,0 +1,75 @@
+#pragma once
+// The per-frame, per-object label check: an independent SegICP pose from the measured depth, its errors
+// against the label (the paper's three: position, rotation axis, rotation angle), the paper's success
+// criterion, the alignment score of the label pose itself, and a verdict with its reason.
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "core/camera.h"
+#include "core/image.h"
+#include "validate/acquisition.h"
+#include "validate/tracker.h"
+#include "validate/validate_options.h"
+
+namespace mocap {
+
+enum class Verdict { kAccept, kSuspect, kReject };
+std::string_view ToString(Verdict verdict);
+
+enum class VerdictReason {
+  kAgrees,               ///< estimate reliable and within the accept thresholds of the label
+  kDiffers,              ///< estimate reliable, between the accept and reject thresholds
+  kDisagrees,            ///< estimate reliable, beyond the reject thresholds
+  kNoReliableEstimate,   ///< no hypothesis reached epsilon; the label's own score is not low
+  kLabelDoesNotFit,      ///< no reliable estimate and the label's own score is below reject_label_score
+  kNoDepth,              ///< the frame has no depth image
+  kMaskSizeMismatch,     ///< the mask and depth sizes differ
+  kEmptyMask,            ///< no pixel carries the object's label
+  kTooFewPoints,         ///< too few valid depth points under the mask
+};
+std::string_view ToString(VerdictReason reason);
+
+/// The paper's three errors of an estimate against a reference pose.
+struct PoseErrors {
+  double position_mm = 0.0;
+  double rotation_axis_deg = 0.0;   ///< angle between the two rotation axes
+  double rotation_angle_deg = 0.0;  ///< angle of the relative rotation
+};
+PoseErrors ComputePoseErrors(const Rigid3d& estimate, const Rigid3d& reference);
+
+struct LabelCheck {
+  Verdict verdict = Verdict::kSuspect;
+  VerdictReason reason_code = VerdictReason::kNoReliableEstimate;
+  std::string reason;                ///< one line for reports
+  int scene_points = 0;              ///< after thinning
+  bool estimated = false;            ///< SegICP produced a pose (reliable or not)
+  Rigid3d T_camera_object_segicp;
+  double segicp_score = 0.0;         ///< a(M, S) of the estimate
+  bool segicp_reliable = false;      ///< segicp_score >= epsilon
+  PoseErrors errors;                 ///< estimate vs label (meaningful when estimated)
+  bool success = false;              ///< the paper's criterion: < 5 cm and < 15 deg (options)
+  double label_score = 0.0;          ///< a(M, S) of the crop visible at the label pose
+  IcpResult icp;                     ///< the registration that produced the estimate
+};
+
+/// Checks one label against the object's scene cloud (camera frame, from the mask). Runs the acquisition
+/// (seeded as options.check_seed says; `view_crops` are used for the view-sphere seed).
+LabelCheck CheckLabel(const PointCloud& scene_camera, const Rigid3d& T_camera_object_label, const CropSource& model,
+                      const std::vector<ModelCrop>& view_crops, const ValidateOptions& options);
+
+/// Same, with the estimate of a tracker that already ran on this frame (the sequence mode).
+LabelCheck CheckLabelWithTrack(const PointCloud& scene_camera, const Rigid3d& T_camera_object_label,
+                               const CropSource& model, const TrackStep& track, const ValidateOptions& options);
+
+/// From a frame: the object's scene cloud is cut from `depth_m` by `mask == label_id`. Bad input (no
+/// depth, a mask of another size, an empty mask, too few points) gives a suspect verdict with the
+/// reason, never an exception or a crash.
+LabelCheck CheckLabelInFrame(const DepthImage& depth_m, const PinholeCamera& camera, const LabelImage& mask,
+                             uint16_t label_id, const Rigid3d& T_camera_object_label, const CropSource& model,
+                             const std::vector<ModelCrop>& view_crops, const ValidateOptions& options);
+
+/// The verdict rules alone (docs/validation.md "Verdicts"); fills verdict, reason_code, reason.
+void DecideVerdict(const VerdictOptions& options, LabelCheck* check);
+
+}  // namespace mocap

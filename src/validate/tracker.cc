@@ -1,0 +1,94 @@
+#include "validate/tracker.h"
+
+#include "core/check.h"
+
+namespace mocap {
+
+std::string_view ToString(TrackMode mode) {
+  return mode == TrackMode::kTracking ? "tracking" : "acquisition";
+}
+
+ObjectTracker::ObjectTracker(const CropSource& model, const ValidateOptions& options)
+    : model_(model), options_((options.check(), options)), filter_(options.filter) {
+  view_crops_ = MakeViewSphereCrops(model_, options_.acquisition);
+  model_box_ = BoundingBox(model_.surface_model(), options_.tracking.box_margin_m);
+}
+
+TrackStep ObjectTracker::Step(const PointCloud& scene_camera, const Rigid3d& T_world_camera, int64_t stamp_ns) {
+  TrackStep step;
+  if (filter_.initialized()) filter_.Predict(stamp_ns);
+  if (filter_.lost()) {
+    filter_ = PoseFilter(options_.filter);
+    mode_ = TrackMode::kAcquisition;
+    step.note = "track lost (pose uncertainty above the limit); ";
+  }
+  const PointCloud scene = VoxelDownsample(scene_camera, options_.scene_voxel_m);
+  step.mode = mode_;
+  step.scene_points = static_cast<int>(scene.size());
+  if (step.scene_points < options_.min_scene_points) {
+    step.note += Str("too few scene points (", step.scene_points, "); propagating");
+  } else if (mode_ == TrackMode::kTracking) {
+    RunTracking(scene, T_world_camera, &step);
+  } else {
+    RunAcquisition(scene, T_world_camera, stamp_ns, &step);
+  }
+  step.has_pose = filter_.initialized() && !filter_.lost();
+  if (step.has_pose) step.T_camera_object = T_world_camera.inverse() * filter_.pose();
+  return step;
+}
+
+void ObjectTracker::RunTracking(const PointCloud& scene, const Rigid3d& T_world_camera, TrackStep* step) {
+  const Rigid3d T_camera_world = T_world_camera.inverse();
+  const Rigid3d predicted = T_camera_world * filter_.pose();
+  const PointCloud pruned = CropToBox(scene, predicted, model_box_);
+  step->scene_points = static_cast<int>(pruned.size());
+  if (step->scene_points < options_.min_scene_points) {
+    mode_ = TrackMode::kAcquisition;
+    step->note += Str("too few points near the predicted pose (", step->scene_points, "); back to acquisition");
+    return;
+  }
+  const KdTree tree(pruned);
+  const ModelCrop crop = model_.Crop(predicted);
+  step->icp = AlignPointToPoint(crop.points_model, tree, predicted, options_.tracking.icp);
+  step->measured = true;
+  step->T_camera_object_measured = step->icp.T_target_source;
+  step->score = ScoreAlignment(crop.points_model, step->T_camera_object_measured, tree, options_.alignment).score;
+  if (step->score < options_.tracking.theta) {
+    mode_ = TrackMode::kAcquisition;
+    step->note += Str("score ", step->score, " below theta; propagating, back to acquisition");
+    return;
+  }
+  const FilterUpdate update = filter_.Update(T_world_camera * step->T_camera_object_measured, step->score);
+  step->measurement_accepted = update.accepted;
+  if (!update.accepted) step->note += Str("measurement gated out (Mahalanobis^2 ", update.mahalanobis_sq, ")");
+}
+
+void ObjectTracker::RunAcquisition(const PointCloud& scene, const Rigid3d& T_world_camera, int64_t stamp_ns,
+                                   TrackStep* step) {
+  const KdTree tree(scene);
+  // While the filter still holds a pose, its prediction seeds the hypotheses; otherwise the view sphere.
+  const AcquisitionResult r =
+      filter_.initialized()
+          ? AcquireAround(scene, tree, model_, T_world_camera.inverse() * filter_.pose(), options_.acquisition,
+                          options_.alignment)
+          : Acquire(scene, tree, model_, view_crops_, options_.acquisition, options_.alignment);
+  if (r.best < 0) {
+    step->note += r.reason;
+    return;
+  }
+  step->measured = true;
+  step->icp = r.refine;
+  step->T_camera_object_measured = r.T_camera_model;
+  step->score = r.score;
+  if (!r.acquired) {
+    step->note += r.reason;
+    return;
+  }
+  const Rigid3d T_world_object = T_world_camera * r.T_camera_model;
+  // A fresh acquisition (re-)anchors the filter: it replaces a track the measurements had left.
+  filter_.Initialize(T_world_object, stamp_ns, r.score);
+  step->measurement_accepted = true;
+  mode_ = TrackMode::kTracking;
+}
+
+}  // namespace mocap

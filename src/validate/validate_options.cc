@@ -1,0 +1,37 @@
+#include "validate/validate_options.h"
+
+#include "core/check.h"
+
+namespace mocap {
+
+void TrackingOptions::check() const {
+  if (!(theta > 0 && theta <= 1)) throw InputError("TrackingOptions", "theta must lie in (0, 1]");
+  if (!(box_margin_m >= 0)) throw InputError("TrackingOptions", "box_margin_m must be >= 0");
+  icp.check();
+}
+
+void VerdictOptions::check() const {
+  if (!(accept_position_m > 0 && accept_position_m <= reject_position_m))
+    throw InputError("VerdictOptions", "need 0 < accept_position_m <= reject_position_m");
+  if (!(accept_rotation_deg > 0 && accept_rotation_deg <= reject_rotation_deg))
+    throw InputError("VerdictOptions", "need 0 < accept_rotation_deg <= reject_rotation_deg");
+  if (!(success_position_m > 0 && success_rotation_deg > 0))
+    throw InputError("VerdictOptions", "success thresholds must be positive");
+  if (!(reject_label_score >= 0 && reject_label_score <= 1))
+    throw InputError("VerdictOptions", "reject_label_score must lie in [0, 1]");
+}
+
+void ValidateOptions::check() const {
+  if (!(scene_voxel_m >= 0)) throw InputError("ValidateOptions", "scene_voxel_m must be >= 0");
+  if (min_scene_points < 3) throw InputError("ValidateOptions", "min_scene_points must be >= 3");
+  alignment.check();
+  crop.check();
+  acquisition.check();
+  tracking.check();
+  filter.check();
+  verdict.check();
+  if (tracking.theta > acquisition.epsilon)
+    throw InputError("ValidateOptions", "tracking.theta must not exceed acquisition.epsilon");
+}
+
+}  // namespace mocap

@@ -1,0 +1,71 @@
+#pragma once
+// All settings of the SegICP validator in one struct, the paper's values as defaults
+// (docs/validation.md lists each with its source).
+#include "validate/acquisition.h"
+#include "validate/alignment_score.h"
+#include "validate/icp.h"
+#include "validate/model_crop.h"
+#include "validate/pose_filter.h"
+
+namespace mocap {
+
+struct TrackingOptions {
+  /// Below this score the filter only propagates and the object goes back to acquisition (the
+  /// paper's theta; its value is not given there).
+  double theta = 0.5;
+  /// Scene points farther than this outside the model's bounding box at the predicted pose are pruned
+  /// ("removing points outside a bounding box of the latest registered model pose").
+  double box_margin_m = 0.02;
+  /// Tight convergence: point-to-point ICP slides slowly along planar faces, and a loose stop leaves
+  /// millimetres of slide in the pose.
+  IcpOptions icp = [] {
+    IcpOptions o;
+    o.initial_correspondence_distance_m = 0.02;
+    o.max_iterations = 40;
+    o.source_stride = 2;
+    o.translation_epsilon_m = 2e-5;
+    o.rotation_epsilon_deg = 0.005;
+    return o;
+  }();
+  void check() const;
+};
+
+/// Thresholds of the label verdict (docs/validation.md "Verdicts").
+struct VerdictOptions {
+  /// SegICP estimate and label agree: accept.
+  double accept_position_m = 0.005;
+  double accept_rotation_deg = 3.0;
+  /// SegICP estimate and label disagree beyond these: reject.
+  double reject_position_m = 0.02;
+  double reject_rotation_deg = 10.0;
+  /// The paper's success criterion for the estimate against the label (errors below both).
+  double success_position_m = 0.05;
+  double success_rotation_deg = 15.0;
+  /// Without a reliable estimate, a label whose own alignment score falls below this is rejected.
+  double reject_label_score = 0.3;
+  void check() const;
+};
+
+/// How label checks seed the acquisition.
+enum class AcquisitionSeed {
+  kViewSphere,  ///< the paper: crops on a view sphere, independent of the label
+  kLabel,       ///< hypotheses spread about the label's orientation (AcquireAround)
+};
+
+struct ValidateOptions {
+  /// Scene clouds are thinned to one point per voxel of this edge before registration, metres.
+  double scene_voxel_m = 0.003;
+  /// Fewer scene points than this (after thinning) and the object is not checked.
+  int min_scene_points = 50;
+  AcquisitionSeed check_seed = AcquisitionSeed::kLabel;
+  AlignmentOptions alignment;
+  CropOptions crop;
+  AcquisitionOptions acquisition;
+  TrackingOptions tracking;
+  PoseFilterOptions filter;
+  VerdictOptions verdict;
+  /// Throws InputError naming the first invalid setting.
+  void check() const;
+};
+
+}  // namespace mocap

@@ -1,0 +1,151 @@
+#include "validate/label_check.h"
+
+#include <gtest/gtest.h>
+
+#include "synthetic.h"
+
+namespace mocap {
+namespace {
+
+TriangleMesh Box(const Eigen::Vector3d& size) {
+  TriangleMesh mesh;
+  for (int i = 0; i < 8; ++i)
+    mesh.vertices.push_back(
+        Eigen::Vector3d((i & 1) ? 0.5 : -0.5, (i & 2) ? 0.5 : -0.5, (i & 4) ? 0.5 : -0.5).cwiseProduct(size));
+  const int faces[6][4] = {{0, 1, 3, 2}, {4, 6, 7, 5}, {0, 4, 5, 1}, {2, 3, 7, 6}, {0, 2, 6, 4}, {1, 5, 7, 3}};
+  for (const auto& f : faces) {
+    mesh.triangles.push_back({f[0], f[1], f[2]});
+    mesh.triangles.push_back({f[0], f[2], f[3]});
+  }
+  return mesh;
+}
+
+PinholeCamera Kinect() { return PinholeCamera{640, 480, 525, 525, 319.5, 239.5, {}}; }
+
+/// A depth frame and mask of the object at T_camera_object: dense surface samples splatted into the
+/// camera with a per-pixel nearest-depth test, plus Kinect-like noise.
+struct Frame {
+  DepthImage depth;
+  LabelImage mask;
+};
+Frame RenderFrame(const TriangleMesh& mesh, const Rigid3d& T_camera_object, std::mt19937& rng) {
+  const PinholeCamera camera = Kinect();
+  Frame f{DepthImage(640, 480, 0.0f), LabelImage(640, 480, 0)};
+  std::normal_distribution<double> noise(0.0, 0.001);
+  for (const auto& p_model : SampleSurface(mesh, 0.0007)) {
+    const Eigen::Vector3d p = T_camera_object * p_model;
+    const auto px = camera.Project(p);
+    if (!px) continue;
+    const int u = static_cast<int>(std::lround(px->x())), v = static_cast<int>(std::lround(px->y()));
+    if (!f.depth.contains(u, v)) continue;
+    if (f.depth.at(u, v) == 0.0f || p.z() < f.depth.at(u, v)) {
+      f.depth.at(u, v) = static_cast<float>(p.z());
+      f.mask.at(u, v) = 3;
+    }
+  }
+  for (auto& d : f.depth.data)
+    if (d > 0) d += static_cast<float>(noise(rng));
+  return f;
+}
+
+class LabelCheckTest : public ::testing::Test {
+ protected:
+  TriangleMesh mesh_ = Box({0.16, 0.06, 0.21});
+  SurfaceCropSource model_ = SurfaceCropSource::FromMesh(mesh_, CropOptions{});
+  Rigid3d truth_ = Rigid3d::FromRvec({2.0, 0.3, 0.4}, {0.05, -0.03, 0.85});
+  ValidateOptions options_;
+  std::mt19937 rng_{9};
+  Frame frame_ = RenderFrame(mesh_, truth_, rng_);
+
+  LabelCheck Check(const Rigid3d& label) {
+    return CheckLabelInFrame(frame_.depth, Kinect(), frame_.mask, 3, label, model_, {}, options_);
+  }
+};
+
+TEST_F(LabelCheckTest, AcceptsTheTrueLabel) {
+  const LabelCheck c = Check(truth_);
+  EXPECT_EQ(c.verdict, Verdict::kAccept) << c.reason;
+  EXPECT_TRUE(c.success);
+  EXPECT_TRUE(c.segicp_reliable);
+  EXPECT_LT(c.errors.position_mm, 2.0);
+  EXPECT_LT(c.errors.rotation_angle_deg, 1.0);
+  EXPECT_GT(c.label_score, 0.9);
+}
+
+TEST_F(LabelCheckTest, FlagsAMountOffByOneCentimetre) {
+  const Rigid3d label = truth_ * Rigid3d::FromRvec({0, 0, 0}, {0.01, 0, 0});
+  const LabelCheck c = Check(label);
+  EXPECT_NE(c.verdict, Verdict::kAccept) << c.reason;
+  EXPECT_NEAR(c.errors.position_mm, 10.0, 2.0);
+}
+
+TEST_F(LabelCheckTest, FlagsAMountOffByFiveDegrees) {
+  const Rigid3d label = truth_ * Rigid3d::FromRvec(Eigen::Vector3d(0.3, 1, 0.2).normalized() * RadFromDeg(5), {0, 0, 0});
+  const LabelCheck c = Check(label);
+  EXPECT_NE(c.verdict, Verdict::kAccept) << c.reason;
+  EXPECT_NEAR(c.errors.rotation_angle_deg, 5.0, 1.0);
+}
+
+TEST_F(LabelCheckTest, RejectsALabelFiveCentimetresOff) {
+  const LabelCheck c = Check(truth_ * Rigid3d::FromRvec({0, 0, 0}, {0.0, 0.05, 0.0}));
+  EXPECT_EQ(c.verdict, Verdict::kReject) << c.reason;
+  EXPECT_LT(c.label_score, 0.5);
+}
+
+TEST_F(LabelCheckTest, BadInputGivesAVerdictWithAReason) {
+  const PinholeCamera camera = Kinect();
+  LabelCheck c = CheckLabelInFrame(DepthImage{}, camera, frame_.mask, 3, truth_, model_, {}, options_);
+  EXPECT_EQ(c.reason_code, VerdictReason::kNoDepth);
+  EXPECT_EQ(c.verdict, Verdict::kSuspect);
+  c = CheckLabelInFrame(frame_.depth, camera, LabelImage(320, 240, 3), 3, truth_, model_, {}, options_);
+  EXPECT_EQ(c.reason_code, VerdictReason::kMaskSizeMismatch);
+  EXPECT_NE(c.reason.find("320x240"), std::string::npos);
+  c = CheckLabelInFrame(frame_.depth, camera, LabelImage(640, 480, 0), 3, truth_, model_, {}, options_);
+  EXPECT_EQ(c.reason_code, VerdictReason::kEmptyMask);
+  // A mask of 5x5 pixels: too few points.
+  LabelImage small(640, 480, 0);
+  const Eigen::Vector2d centre = *camera.Project(truth_.translation());
+  for (int dv = -2; dv <= 2; ++dv)
+    for (int du = -2; du <= 2; ++du) small.at(static_cast<int>(centre.x()) + du, static_cast<int>(centre.y()) + dv) = 3;
+  c = CheckLabelInFrame(frame_.depth, camera, small, 3, truth_, model_, {}, options_);
+  EXPECT_EQ(c.reason_code, VerdictReason::kTooFewPoints);
+  EXPECT_FALSE(c.estimated);
+  // Depth without valid pixels under the mask.
+  c = CheckLabelInFrame(DepthImage(640, 480, 0.0f), camera, frame_.mask, 3, truth_, model_, {}, options_);
+  EXPECT_EQ(c.reason_code, VerdictReason::kTooFewPoints);
+}
+
+TEST(Verdict, RulesFollowTheThresholds) {
+  VerdictOptions o;
+  LabelCheck c;
+  c.segicp_reliable = true;
+  c.errors = {4.0, 1.0, 2.0};
+  DecideVerdict(o, &c);
+  EXPECT_EQ(c.verdict, Verdict::kAccept);
+  c.errors = {8.0, 1.0, 2.0};
+  DecideVerdict(o, &c);
+  EXPECT_EQ(c.verdict, Verdict::kSuspect);
+  c.errors = {4.0, 1.0, 12.0};
+  DecideVerdict(o, &c);
+  EXPECT_EQ(c.verdict, Verdict::kReject);
+  c.segicp_reliable = false;
+  c.label_score = 0.2;
+  DecideVerdict(o, &c);
+  EXPECT_EQ(c.reason_code, VerdictReason::kLabelDoesNotFit);
+  c.label_score = 0.8;
+  DecideVerdict(o, &c);
+  EXPECT_EQ(c.verdict, Verdict::kSuspect);
+  EXPECT_EQ(ToString(c.reason_code), "no_reliable_estimate");
+}
+
+TEST(PoseErrors, AreThePapersThree) {
+  const Rigid3d a = Rigid3d::FromRvec({0, 0, RadFromDeg(30)}, {0, 0, 1});
+  const Rigid3d b = Rigid3d::FromRvec({0, RadFromDeg(40), 0}, {0.003, 0.004, 1});
+  const PoseErrors e = ComputePoseErrors(a, b);
+  EXPECT_NEAR(e.position_mm, 5.0, 1e-9);
+  EXPECT_NEAR(e.rotation_axis_deg, 90.0, 1e-9);
+  EXPECT_NEAR(e.rotation_angle_deg, RotationDistanceDeg(a, b), 1e-12);
+}
+
+}  // namespace
+}  // namespace mocap

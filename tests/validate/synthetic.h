@@ -1,0 +1,46 @@
+#pragma once
+// Synthetic clouds with known geometry for the validator tests.
+#include <random>
+
+#include "core/check.h"
+#include "core/rigid3.h"
+#include "validate/point_cloud.h"
+
+namespace mocap::testing {
+
+/// Points on the surface of an axis-aligned box centred at the origin, on a grid of `spacing_m`.
+inline PointCloud BoxSurface(const Eigen::Vector3d& size_m, double spacing_m) {
+  PointCloud points;
+  const Eigen::Vector3d half = size_m / 2;
+  for (int axis = 0; axis < 3; ++axis) {
+    const int a = (axis + 1) % 3, b = (axis + 2) % 3;
+    const int na = static_cast<int>(size_m[a] / spacing_m), nb = static_cast<int>(size_m[b] / spacing_m);
+    for (int side = -1; side <= 1; side += 2)
+      for (int i = 0; i <= na; ++i)
+        for (int j = 0; j <= nb; ++j) {
+          Eigen::Vector3d p;
+          p[axis] = side * half[axis];
+          p[a] = -half[a] + i * size_m[a] / na;
+          p[b] = -half[b] + j * size_m[b] / nb;
+          points.push_back(p);
+        }
+  }
+  return points;
+}
+
+/// A random rigid perturbation with translation norm `translation_m` and rotation angle `angle_deg`
+/// about a random axis (fixed magnitudes, random directions).
+inline Rigid3d RandomPerturbation(std::mt19937& rng, double translation_m, double angle_deg) {
+  std::normal_distribution<double> n(0.0, 1.0);
+  const Eigen::Vector3d axis = Eigen::Vector3d(n(rng), n(rng), n(rng)).normalized();
+  const Eigen::Vector3d dir = Eigen::Vector3d(n(rng), n(rng), n(rng)).normalized();
+  return Rigid3d::FromRvec(axis * RadFromDeg(angle_deg), dir * translation_m);
+}
+
+inline PointCloud AddNoise(PointCloud points, std::mt19937& rng, double sigma_m) {
+  std::normal_distribution<double> n(0.0, sigma_m);
+  for (auto& p : points) p += Eigen::Vector3d(n(rng), n(rng), n(rng));
+  return points;
+}
+
+}  // namespace mocap::testing
