@@ -10,10 +10,9 @@
 #include <vector>
 
 #include "core/rigid3.h"
+#include "sim/color_image.h"
 
 namespace mocap::sim {
-
-using Rgb8 = std::array<uint8_t, 3>;
 
 struct ColoredMesh {
   std::vector<Eigen::Vector3d> positions_m;

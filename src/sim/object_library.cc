@@ -105,8 +105,8 @@ ObjectLibrary DefaultObjectLibrary() {
   ObjectSpec table = NamedObject(4, "table", "table", "table.ply");
   table.symmetries.push_back({Symmetry::Type::kDiscrete, Eigen::Vector3d::UnitZ(), Eigen::Vector3d::Zero(), 180});
   table.body = PlanarTool("table_body", {{0, 0}, {90, 0}, {20, 75}, {-40, 30}});
-  // Tool on the corner of the table top (as in the paper's set-up), facing up.
-  table.T_body_mesh = MountOnMesh({0.560, -0.360, 0.752}, {0, 0, 1}, 45).inverse();
+  // Tool on the corner of the table top nearest the tracker (as in the paper's set-up), facing up.
+  table.T_body_mesh = MountOnMesh({-0.560, 0.360, 0.752}, {0, 0, 1}, 45).inverse();
 
   library.objects = {bottle, funnel, engine, table};
   return library;
