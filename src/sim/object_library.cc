@@ -36,8 +36,15 @@ ObjectSpec NamedObject(int id, const std::string& name, const std::string& objec
   return object;
 }
 
+/// Rounds to `precision` decimals; adding 0.0 turns -0.0 into 0.0, so the file never shows "-0.000".
+double Clean(double value, int precision) {
+  const double scale = std::pow(10.0, precision);
+  return std::round(value * scale) / scale + 0.0;
+}
+
 void EmitVector(std::ostringstream& out, const Eigen::Vector3d& v, int precision) {
-  out << std::fixed << std::setprecision(precision) << "[" << v.x() << ", " << v.y() << ", " << v.z() << "]";
+  out << std::fixed << std::setprecision(precision) << "[" << Clean(v.x(), precision) << ", " << Clean(v.y(), precision)
+      << ", " << Clean(v.z(), precision) << "]";
 }
 
 }  // namespace
@@ -151,7 +158,8 @@ std::string EncodeObjectsYaml(const ObjectLibrary& library) {
     const Eigen::Vector4d q = o.T_body_mesh.quat_wxyz();
     out << "\n    T_body_mesh:\n      translation_m: ";
     EmitVector(out, o.T_body_mesh.translation(), 6);
-    out << std::setprecision(9) << "\n      rotation_wxyz: [" << q[0] << ", " << q[1] << ", " << q[2] << ", " << q[3] << "]\n";
+    out << std::setprecision(9) << "\n      rotation_wxyz: [" << Clean(q[0], 9) << ", " << Clean(q[1], 9) << ", " << Clean(q[2], 9) << ", "
+        << Clean(q[3], 9) << "]\n";
     out << std::setprecision(3) << "    reflectivity: " << o.reflectivity << "\n    tof_deformation_m: " << o.tof_deformation_m
         << "\n";
   }
