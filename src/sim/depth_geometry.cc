@@ -12,7 +12,8 @@ namespace {
 /// Undistorted normalised x (x/z) of every column of a row.
 std::vector<double> NormalisedColumnsX(const PinholeCamera& camera, int v) {
   std::vector<double> x(static_cast<size_t>(camera.width));
-  for (int u = 0; u < camera.width; ++u) x[static_cast<size_t>(u)] = camera.Ray({u, v}).x();
+  for (int u = 0; u < camera.width; ++u)
+    x[static_cast<size_t>(u)] = camera.has_distortion() ? camera.Ray({u, v}).x() : (u - camera.cx) / camera.fx;
   return x;
 }
 

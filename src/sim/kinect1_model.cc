@@ -14,7 +14,8 @@ void Kinect1Options::check() const {
   if (!(disparity_a < 0 && disparity_b > 0)) throw InputError("kinect1.disparity_a/b", "need a < 0 < b");
   if (!(min_depth_m > 0 && max_depth_m > min_depth_m)) throw InputError("kinect1.min_depth_m/max_depth_m", "need 0 < min < max");
   const double d_near = Kinect1DisparityFromDepth(min_depth_m, *this), d_far = Kinect1DisparityFromDepth(max_depth_m, *this);
-  if (!(d_near >= 0 && d_far > d_near && d_far < kKinect1NoDisparity - 1))
+  // libfreenect reports at most FREENECT_DEPTH_MM_MAX_VALUE = 10 m.
+  if (!(d_near >= 0 && d_far > d_near && d_far < kKinect1NoDisparity - 1 && max_depth_m <= 10.0))
     throw InputError("kinect1.min_depth_m/max_depth_m", "range exceeds what 11-bit disparities can represent");
   if (quantise && noise_coefficient_per_m / -disparity_a < std::sqrt(1.0 / 12.0))
     throw InputError("kinect1.noise_coefficient_per_m", "smaller than the quantisation error alone");
