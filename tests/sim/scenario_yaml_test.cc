@@ -135,3 +135,21 @@ TEST(ScenarioYaml, ObjectsYamlErrorsNameTheLine) {
 
 }  // namespace
 }  // namespace mocap::cli
+
+namespace mocap::cli {
+namespace {
+
+TEST(ScenarioYaml, TheExampleInTheDocsIsValid) {
+  const std::string doc = ReadText(std::filesystem::path(MOCAP_SOURCE_DIR) / "docs" / "simulation.md");
+  const size_t begin = doc.find("```yaml\n");
+  ASSERT_NE(begin, std::string::npos);
+  const size_t end = doc.find("```", begin + 8);
+  const sim::Scenario s = ParseScenarioYaml(doc.substr(begin + 8, end - begin - 8), "docs/simulation.md");
+  EXPECT_NO_THROW(s.check(sim::DefaultObjectLibrary(), "docs/simulation.md"));
+  EXPECT_EQ(s.options.sensor, sim::SensorKind::kKinect2);
+  EXPECT_TRUE(s.options.errors.any());
+  EXPECT_EQ(s.objects.size(), 3u);
+}
+
+}  // namespace
+}  // namespace mocap::cli

@@ -49,6 +49,7 @@ TEST(TrackerModel, MarkerNoiseHasTheConfiguredRmsAndPoseNoiseFollowsFromGeometry
   EXPECT_NEAR(std::sqrt(sum_centroid_sq / n), 0.25e-3 / std::sqrt(markers), 0.05 * 0.25e-3 / std::sqrt(markers));
   // Rotation noise exists and is small for a 6-10 cm tool (about sigma / radius).
   const double rotation_rms_deg = std::sqrt(sum_angle_sq / n);
+  RecordProperty("rotation_rms_deg", std::to_string(rotation_rms_deg));
   EXPECT_GT(rotation_rms_deg, 0.05);
   EXPECT_LT(rotation_rms_deg, 0.5);
 }
