@@ -28,6 +28,7 @@ MaskImage ShadowMask(const DepthImage& depth_m, const PinholeCamera& camera, dou
   // from the side of the viewpoint (b > 0: right to left), visible points keep decreasing (b > 0) or
   // increasing (b < 0) viewpoint coordinates; a point that breaks the order is hidden behind one scanned.
   const bool from_right = baseline_x_m > 0;
+#pragma omp parallel for schedule(static)
   for (int v = 0; v < depth_m.height; ++v) {
     const std::vector<double> x = NormalisedColumnsX(camera, v);
     double extreme = from_right ? std::numeric_limits<double>::infinity() : -std::numeric_limits<double>::infinity();
@@ -51,6 +52,7 @@ MaskImage ShadowMask(const DepthImage& depth_m, const PinholeCamera& camera, dou
 MaskImage DepthEdgeMask(const DepthImage& depth_m, double jump_fraction, double min_jump_m, int band_px) {
   MOCAP_CHECK(band_px >= 1, "edge band must be at least one pixel");
   MaskImage edge(depth_m.width, depth_m.height, 0);
+#pragma omp parallel for schedule(static)
   for (int v = 0; v < depth_m.height; ++v) {
     for (int u = 0; u < depth_m.width; ++u) {
       const float z = depth_m.at(u, v);
@@ -78,6 +80,7 @@ Image<float> IncidenceAngleImage(const DepthImage& depth_m, const PinholeCamera&
     const float zn = depth_m.at(u, v);
     return zn > 0 && std::abs(zn - z) <= max_step_fraction * z;
   };
+#pragma omp parallel for schedule(static)
   for (int v = 0; v < depth_m.height; ++v) {
     for (int u = 0; u < depth_m.width; ++u) {
       const float z = depth_m.at(u, v);

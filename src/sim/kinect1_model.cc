@@ -47,11 +47,17 @@ PinholeCamera Kinect1ColorCamera() {
 
 namespace {
 
-ColorImage AddColorNoise(const ColorImage& clean, double sigma, Rng& rng) {
+ColorImage AddColorNoise(const ColorImage& clean, double sigma, uint64_t seed) {
   ColorImage noisy = clean;
   if (sigma <= 0) return noisy;
-  for (Rgb8& pixel : noisy.data)
-    for (uint8_t& channel : pixel) channel = static_cast<uint8_t>(std::clamp(std::lround(channel + rng.Normal(sigma)), 0L, 255L));
+  // One random stream per row: the result does not depend on the number of threads.
+#pragma omp parallel for schedule(static)
+  for (int v = 0; v < noisy.height; ++v) {
+    Rng rng = Rng::Derive(seed, 0x10000u + static_cast<uint64_t>(v));
+    for (int u = 0; u < noisy.width; ++u)
+      for (uint8_t& channel : noisy.at(u, v))
+        channel = static_cast<uint8_t>(std::clamp(std::lround(channel + rng.Normal(sigma)), 0L, 255L));
+  }
   return noisy;
 }
 
@@ -62,7 +68,6 @@ Kinect1Frame SimulateKinect1(const DepthImage& clean_depth_m, const ColorImage& 
   MOCAP_CHECK(clean_depth_m.width == camera.width && clean_depth_m.height == camera.height, "depth and camera sizes differ");
   MOCAP_CHECK(clean_color.empty() || (clean_color.width == camera.width && clean_color.height == camera.height),
               "colour and camera sizes differ");
-  Rng rng = Rng::Derive(seed, 1);
   Kinect1Frame frame;
   frame.depth_m = DepthImage(camera.width, camera.height, 0.0f);
   frame.raw_disparity = Image<uint16_t>(camera.width, camera.height, kKinect1NoDisparity);
@@ -71,31 +76,39 @@ Kinect1Frame SimulateKinect1(const DepthImage& clean_depth_m, const ColorImage& 
   const MaskImage edges = DepthEdgeMask(clean_depth_m, options.edge_jump_fraction, options.edge_min_jump_m);
   const double sigma_d_total = options.noise_coefficient_per_m / -options.disparity_a;
   const double sigma_d = options.quantise ? std::sqrt(sigma_d_total * sigma_d_total - 1.0 / 12.0) : sigma_d_total;
-  for (size_t i = 0; i < clean_depth_m.data.size(); ++i) {
-    const float z = clean_depth_m.data[i];
-    // Draw for every pixel so the sequence does not depend on the scene.
-    const double noise = rng.Normal(sigma_d);
-    const bool drop_edge = rng.Bernoulli(options.edge_invalid_probability);
-    if (!(z > 0)) continue;
-    if (projector_shadow.data[i] || ir_hidden.data[i]) {
-      ++frame.shadow_pixels;
-      continue;
+  int shadow = 0, edge = 0, out_of_range = 0;
+#pragma omp parallel for schedule(static) reduction(+ : shadow, edge, out_of_range)
+  for (int v = 0; v < camera.height; ++v) {
+    // One random stream per row, drawn for every pixel: reproducible whatever the scene and threads.
+    Rng rng = Rng::Derive(seed, static_cast<uint64_t>(v));
+    for (int u = 0; u < camera.width; ++u) {
+      const double noise = rng.Normal(sigma_d);
+      const bool drop_edge = rng.Bernoulli(options.edge_invalid_probability);
+      const float z = clean_depth_m.at(u, v);
+      if (!(z > 0)) continue;
+      if (projector_shadow.at(u, v) || ir_hidden.at(u, v)) {
+        ++shadow;
+        continue;
+      }
+      if (edges.at(u, v) && drop_edge) {
+        ++edge;
+        continue;
+      }
+      double d = Kinect1DisparityFromDepth(z, options) + noise;
+      if (options.quantise) d = std::round(d);
+      const double measured = Kinect1DepthFromDisparity(d, options);
+      if (d < 0 || d >= kKinect1NoDisparity || measured < options.min_depth_m || measured > options.max_depth_m) {
+        ++out_of_range;
+        continue;
+      }
+      frame.depth_m.at(u, v) = static_cast<float>(measured);
+      frame.raw_disparity.at(u, v) = static_cast<uint16_t>(std::clamp(std::lround(d), 0L, 2046L));
     }
-    if (edges.data[i] && drop_edge) {
-      ++frame.edge_pixels;
-      continue;
-    }
-    double d = Kinect1DisparityFromDepth(z, options) + noise;
-    if (options.quantise) d = std::round(d);
-    const double measured = Kinect1DepthFromDisparity(d, options);
-    if (d < 0 || d >= kKinect1NoDisparity || measured < options.min_depth_m || measured > options.max_depth_m) {
-      ++frame.out_of_range_pixels;
-      continue;
-    }
-    frame.depth_m.data[i] = static_cast<float>(measured);
-    frame.raw_disparity.data[i] = static_cast<uint16_t>(std::clamp(std::lround(d), 0L, 2046L));
   }
-  frame.color = AddColorNoise(clean_color, options.color_noise_sigma, rng);
+  frame.shadow_pixels = shadow;
+  frame.edge_pixels = edge;
+  frame.out_of_range_pixels = out_of_range;
+  frame.color = AddColorNoise(clean_color, options.color_noise_sigma, seed);
   return frame;
 }
 

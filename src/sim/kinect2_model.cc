@@ -58,12 +58,14 @@ Kinect2DepthFrame SimulateKinect2Depth(const DepthImage& clean_depth_m, const La
               "depth and camera sizes differ");
   MOCAP_CHECK(instances.empty() || (instances.width == clean_depth_m.width && instances.height == clean_depth_m.height),
               "instance and depth sizes differ");
-  Rng rng = Rng::Derive(seed, 2);
   const Image<float> incidence = IncidenceAngleImage(clean_depth_m, depth_camera);
   const double max_incidence = RadFromDeg(options.max_incidence_deg);
   Kinect2DepthFrame frame;
   frame.depth_m = DepthImage(clean_depth_m.width, clean_depth_m.height, 0.0f);
+  int flying = 0, deformed = 0, grazing = 0, out_of_range = 0;
+#pragma omp parallel for schedule(static) reduction(+ : flying, deformed, grazing, out_of_range)
   for (int v = 0; v < clean_depth_m.height; ++v) {
+    Rng rng = Rng::Derive(seed, 0x20000u + static_cast<uint64_t>(v));
     for (int u = 0; u < clean_depth_m.width; ++u) {
       const double noise = rng.Normal(), mix = rng.Uniform(0.1, 0.9);
       const bool fly = rng.Bernoulli(options.flying_pixel_probability);
@@ -71,7 +73,7 @@ Kinect2DepthFrame SimulateKinect2Depth(const DepthImage& clean_depth_m, const La
       if (!(z_clean > 0)) continue;
       const double theta = std::max(0.0f, incidence.at(u, v));
       if (theta > max_incidence) {
-        ++frame.grazing_pixels;
+        ++grazing;
         continue;
       }
       double z = z_clean;
@@ -80,31 +82,38 @@ Kinect2DepthFrame SimulateKinect2Depth(const DepthImage& clean_depth_m, const La
         // Displacement along the ray (range r = z * |(x, y, 1)|), converted back to depth.
         const double range_per_depth = depth_camera.Ray({u, v}).norm();
         z += surface->reflectivity * surface->tof_deformation_m * (1.0 - std::cos(theta)) / range_per_depth;
-        ++frame.deformed_pixels;
+        ++deformed;
       }
       const auto [near, far] = NeighbourhoodRange(clean_depth_m, u, v);
       if (far - near > options.edge_jump_m && fly) {
         z = mix * near + (1.0 - mix) * far;
-        ++frame.flying_pixels;
+        ++flying;
       }
       if (options.tof_noise) z += noise * Kinect2DepthSigmaM(z, theta);
       if (z < options.min_depth_m || z > options.max_depth_m) {
-        ++frame.out_of_range_pixels;
+        ++out_of_range;
         continue;
       }
       frame.depth_m.at(u, v) = static_cast<float>(z);
     }
   }
+  frame.flying_pixels = flying;
+  frame.deformed_pixels = deformed;
+  frame.grazing_pixels = grazing;
+  frame.out_of_range_pixels = out_of_range;
   return frame;
 }
 
 ColorImage SimulateKinect2Color(const ColorImage& clean_color, const Kinect2Options& options, uint64_t seed) {
-  Rng rng = Rng::Derive(seed, 3);
   ColorImage noisy = clean_color;
   if (options.color_noise_sigma <= 0) return noisy;
-  for (Rgb8& pixel : noisy.data)
-    for (uint8_t& channel : pixel)
-      channel = static_cast<uint8_t>(std::clamp(std::lround(channel + rng.Normal(options.color_noise_sigma)), 0L, 255L));
+#pragma omp parallel for schedule(static)
+  for (int v = 0; v < noisy.height; ++v) {
+    Rng rng = Rng::Derive(seed, 0x30000u + static_cast<uint64_t>(v));
+    for (int u = 0; u < noisy.width; ++u)
+      for (uint8_t& channel : noisy.at(u, v))
+        channel = static_cast<uint8_t>(std::clamp(std::lround(channel + rng.Normal(options.color_noise_sigma)), 0L, 255L));
+  }
   return noisy;
 }
 
