@@ -11,6 +11,7 @@ const std::vector<Command>& AllCommands() {
       {"label", "label every frame: masks, rendered depth, poses and flags", RunLabel},
       {"doctor", "check headless rendering (EGL platform, driver, test render)", RunDoctor},
       {"ndi-emulator", "emulate an NDI tracker (Combined API) on loopback", RunNdiEmulator},
+      {"sim", "simulated rig: object meshes, scenario checks", RunSim},
   };
   return commands;
 }

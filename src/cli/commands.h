@@ -8,5 +8,6 @@ int RunImport(int argc, char** argv);
 int RunDoctor(int argc, char** argv);
 int RunLabel(int argc, char** argv);
 int RunNdiEmulator(int argc, char** argv);
+int RunSim(int argc, char** argv);
 
 }  // namespace mocap::cli
