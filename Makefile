@@ -21,7 +21,7 @@ build-asan: deps
 	@cmake --build $(ASAN_DIR) -j $(JOBS)
 
 demo: build
-	$(BUILD_DIR)/src/cli/mocaplabel demo --out demo-out
+	scripts/demo.sh $(BUILD_DIR)/src/cli/mocaplabel demo-out
 
 test-unit: build
 	ctest --test-dir $(BUILD_DIR) --output-on-failure -j $(JOBS)
