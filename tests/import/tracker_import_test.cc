@@ -2,6 +2,8 @@
 // import; the INVALID frame shows as missing and as a source_status event) and of the BOP importer.
 #include <yaml-cpp/yaml.h>
 
+#include <opencv2/imgcodecs.hpp>
+
 #include "session/import/bop_import.h"
 #include "session/import/bop_scene.h"
 #include "session/import/motive_csv.h"
@@ -143,6 +145,51 @@ TEST(BopImport, KnownObjectPosesPerFrameAndObjectList) {
   EXPECT_EQ(objects[0]["unit"].as<std::string>(), "mm");
   EXPECT_TRUE(std::filesystem::exists(objects[0]["mesh"].as<std::string>()));
   EXPECT_EQ(manifest.extra["objects"].size(), 8u);
+}
+
+TEST(BopImport, VaryingIntrinsicsSplitCamerasAndInstancesGetTheirOwnBodies) {
+  ScratchDir scratch;
+  const auto scene = scratch.path() / "000004";
+  scratch.Write("models/models_info.json", R"({"1": {"diameter": 80.0}, "2": {"diameter": 50.0}})");
+  scratch.Write("models/obj_000001.ply", "ply\n");
+  scratch.Write("models/obj_000002.ply", "ply\n");
+  scratch.Write("000004/scene_camera.json", R"({
+    "1": {"cam_K": [500, 0, 4, 0, 500, 3, 0, 0, 1], "depth_scale": 0.1},
+    "2": {"cam_K": [500, 0, 4, 0, 500, 3, 0, 0, 1], "depth_scale": 0.1},
+    "3": {"cam_K": [510, 0, 4, 0, 510, 3, 0, 0, 1], "depth_scale": 0.1}})");
+  scratch.Write("000004/scene_gt.json", R"({
+    "1": [{"cam_R_m2c": [1,0,0,0,1,0,0,0,1], "cam_t_m2c": [0, 0, 900], "obj_id": 1},
+          {"cam_R_m2c": [1,0,0,0,1,0,0,0,1], "cam_t_m2c": [20, 0, 950], "obj_id": 1},
+          {"cam_R_m2c": [0,-1,0,1,0,0,0,0,1], "cam_t_m2c": [0, 30, 800], "obj_id": 2}],
+    "2": [{"cam_R_m2c": [1,0,0,0,1,0,0,0,1], "cam_t_m2c": [0, 0, 910], "obj_id": 1}],
+    "3": [{"cam_R_m2c": [1,0,0,0,1,0,0,0,1], "cam_t_m2c": [0, 0, 920], "obj_id": 1}]})");
+  std::filesystem::create_directories(scene / "rgb");
+  std::filesystem::create_directories(scene / "depth");
+  for (int id = 1; id <= 3; ++id) {
+    cv::imwrite((scene / "rgb" / ("00000" + std::to_string(id) + ".png")).string(), cv::Mat(6, 8, CV_8UC3, cv::Scalar(id, 2, 3)));
+    cv::imwrite((scene / "depth" / ("00000" + std::to_string(id) + ".png")).string(), cv::Mat(6, 8, CV_16UC1, cv::Scalar(9000)));
+  }
+  const auto summary = ImportBop(scene, scratch.path() / "models", scratch.path() / "S");
+  EXPECT_EQ(summary.frames_with_color_and_depth, 3);
+  const SessionReader reader = SessionReader::Open(scratch.path() / "S");
+  const auto& manifest = reader.manifest();
+  ASSERT_EQ(manifest.cameras.size(), 2u);
+  EXPECT_EQ(manifest.cameras[0].name, "bop");
+  EXPECT_EQ(manifest.cameras[1].name, "bop_1");
+  EXPECT_EQ(manifest.cameras[1].color_camera.fx, 510.0);
+  EXPECT_DOUBLE_EQ(manifest.cameras[0].depth_unit_m, 1e-4);
+  EXPECT_EQ(reader.frame_count("bop"), 2);
+  EXPECT_EQ(reader.frame_count("bop_1"), 1);
+  ASSERT_EQ(manifest.trackers.size(), 2u);
+  EXPECT_EQ(manifest.trackers[1].frame, "camera:bop_1");
+  EXPECT_EQ(manifest.trackers[0].bodies, (std::vector<std::string>{"obj_000001", "obj_000001_inst1", "obj_000002"}));
+  const auto second = reader.BodyRecords("objects", "obj_000001_inst1");
+  ASSERT_EQ(second.size(), 2u);
+  EXPECT_EQ(second[0].status, PoseStatus::kValid);
+  EXPECT_NEAR(second[0].T_frame_body.translation().x(), 0.020, 1e-12);
+  EXPECT_EQ(second[1].status, PoseStatus::kMissing);  // frame 2 has one instance only
+  // 0.9 m of depth at 0.1 mm per unit.
+  EXPECT_NEAR(reader.LoadDepth("bop", 0).at(0, 0), 0.9f, 1e-6f);
 }
 
 TEST(BopImport, EmptyOrBadSceneIsRefused) {

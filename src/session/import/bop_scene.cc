@@ -60,7 +60,9 @@ std::optional<std::pair<int, int>> PngSize(const std::filesystem::path& file) {
   std::ifstream in(file, std::ios::binary);
   unsigned char b[24] = {};
   if (!in.read(reinterpret_cast<char*>(b), 24) || b[1] != 'P' || b[2] != 'N' || b[3] != 'G') return std::nullopt;
-  auto be32 = [&](int at) { return (b[at] << 24) | (b[at + 1] << 16) | (b[at + 2] << 8) | b[at + 3]; };
+  auto be32 = [&](int at) {
+    return static_cast<int>((uint32_t{b[at]} << 24) | (uint32_t{b[at + 1]} << 16) | (uint32_t{b[at + 2]} << 8) | b[at + 3]);
+  };
   return std::pair{be32(16), be32(20)};
 }
 
