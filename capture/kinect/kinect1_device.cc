@@ -309,6 +309,12 @@ LibfreenectInfo ProbeLibfreenect() {
   return info;
 }
 
+std::string Kinect1SupportDetail() {
+  const LibfreenectInfo info = ProbeLibfreenect();
+  return Str("built with libfreenect ", MOCAP_LIBFREENECT_VERSION,
+             info.replay ? "; the fakenect replay build is loaded (FAKENECT_PATH=" + info.fakenect_path + ")" : "");
+}
+
 PinholeCamera NominalKinect1DepthCamera() { return PinholeCamera{640, 480, 594.21, 591.04, 339.5, 242.7, {}}; }
 
 std::unique_ptr<CameraDevice> CreateKinect1Device(const Kinect1Options& options) {

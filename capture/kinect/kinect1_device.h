@@ -42,6 +42,9 @@ struct LibfreenectInfo {
 };
 LibfreenectInfo ProbeLibfreenect();
 
+/// "libfreenect <version> (...)": the library this build links, for `mocaplabel devices`.
+std::string Kinect1SupportDetail();
+
 /// The nominal depth-camera intrinsics of libfreenect's examples/glpclview.c (N. Burrus): fx 594.21,
 /// fy 591.04, cx 339.5, cy 242.7, no distortion; used when nothing better is known.
 PinholeCamera NominalKinect1DepthCamera();

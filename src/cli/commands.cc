@@ -6,6 +6,7 @@ namespace mocap::cli {
 const std::vector<Command>& AllCommands() {
   static const std::vector<Command> commands = {
       {"version", "print the version", RunVersion},
+      {"devices", "list attached Kinects, serial adapters and network trackers", RunDevices},
   };
   return commands;
 }

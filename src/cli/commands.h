@@ -3,5 +3,6 @@
 namespace mocap::cli {
 
 int RunVersion(int argc, char** argv);
+int RunDevices(int argc, char** argv);
 
 }  // namespace mocap::cli
