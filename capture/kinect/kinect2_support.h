@@ -23,6 +23,8 @@ struct Kinect2Options {
   bool bilateral_filter = true;    ///< Config::EnableBilateralFilter ("remove some flying pixels")
   bool edge_aware_filter = true;   ///< Config::EnableEdgeAwareFilter
   int frame_timeout_ms = 1000;     ///< waiting longer than this for a frame ends the stream
+  /// Map depth into the 1920x1080 colour image (libfreenect2 Registration); off: 512x424 IR-camera depth.
+  bool registered_depth = true;
   /// Throws InputError on a bad range, an unknown pipeline or a non-positive timeout.
   void check() const;
 };
