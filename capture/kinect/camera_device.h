@@ -81,7 +81,8 @@ class CameraDevice {
 
   /// Created -> Open. Throws DeviceError when the device cannot be opened (the state stays Created).
   void Open();
-  /// Open -> Streaming; `on_frame` runs on the device thread and must not block for long.
+  /// Open -> Streaming; `on_frame` runs on the device thread and must not block for long. If it throws,
+  /// the stream ends and stream_end_reason() holds the exception's message.
   void Start(FrameCallback on_frame);
   /// Streaming -> Open; returns after the device thread has delivered its last frame.
   void Stop();

@@ -208,7 +208,13 @@ void Kinect1Device::DoStart() {
 void Kinect1Device::Run() {
   while (!stop_) {
     timeval timeout{0, 100'000};
-    const int rc = freenect_process_events_timeout(context_, &timeout);
+    int rc = 0;
+    try {
+      rc = freenect_process_events_timeout(context_, &timeout);  // runs the frame callbacks
+    } catch (const std::exception& e) {
+      ReportStreamEnd(std::string("kinect1: the frame callback failed: ") + e.what());
+      return;
+    }
     if (rc < 0 && rc != kUsbInterrupted) {
       ReportStreamEnd(library_.replay ? "end of the fakenect recording " + library_.fakenect_path
                                       : Str("libfreenect stopped with error ", rc, " (device unplugged?)"));

@@ -96,7 +96,13 @@ class Kinect2Device final : public CameraDevice {
         if (!stop_) ReportStreamEnd(Str("kinect2: no frame within ", options_.frame_timeout_ms, " ms (unplugged?)"));
         return;
       }
-      Emit(frames[libfreenect2::Frame::Color], frames[libfreenect2::Frame::Depth]);
+      try {
+        Emit(frames[libfreenect2::Frame::Color], frames[libfreenect2::Frame::Depth]);
+      } catch (const std::exception& e) {
+        listener_.release(frames);
+        ReportStreamEnd(std::string("kinect2: the frame callback failed: ") + e.what());
+        return;
+      }
       listener_.release(frames);
     }
   }

@@ -190,6 +190,17 @@ TEST(Kinect1Replay, AccelerometerSamplesReachTheirFrames) {
   }
 }
 
+TEST(Kinect1Replay, ThrowingCallbackEndsTheStreamWithItsReason) {
+  auto frames = testing::LoadTumDesk();
+  frames.resize(4);
+  const fs::path recording = testing::FreshDir("tum_throw");
+  testing::WriteTumRecording(recording / "rec", frames, 5000);
+  const Replay replay = RunReplay(recording / "rec", recording / "out", {"--throw-at-frame", "2"});
+  EXPECT_EQ(replay.summary.at("frames").size(), 2u);
+  EXPECT_TRUE(replay.summary.at("stream_ended").get<bool>());
+  EXPECT_EQ(replay.summary.at("stream_end_reason"), "kinect1: the frame callback failed: stop requested by the test");
+}
+
 TEST(Kinect1Replay, MissingRecordingIsAClearDeviceError) {
   const fs::path dir = testing::FreshDir("no_recording");
   const auto result = RunProcess({KINECT_REPLAY_DUMP, (dir / "out").string()}, FakenectEnv(dir / "absent"),

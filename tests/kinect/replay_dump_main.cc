@@ -1,13 +1,15 @@
-// kinect_replay_dump OUT_DIR [--tilt-interval-ms MS] [--timeout-ms MS]
+// kinect_replay_dump OUT_DIR [--tilt-interval-ms MS] [--timeout-ms MS] [--throw-at-frame N]
 // Opens the first Kinect1 through whatever libfreenect the loader picked (the fakenect build when run with
 // LD_LIBRARY_PATH=/usr/lib/x86_64-linux-gnu/fakenect FAKENECT_PATH=<recording>), streams until the stream
 // ends, and writes every delivered frame to OUT_DIR: color_<seq>.png, depth_<seq>.png (16-bit mm) and
 // frames.json (timestamps, tilt, intrinsics, stats). Exit 0 on success, 3 when the device fails to open.
+// --throw-at-frame N makes the frame callback throw at frame N (to check the device ends the stream).
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <mutex>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -54,10 +56,12 @@ int main(int argc, char** argv) {
   const std::filesystem::path out_dir = argv[1];
   mocap::capture::Kinect1Options options;
   int timeout_ms = 20000;
+  int64_t throw_at_frame = -1;
   for (int i = 2; i + 1 < argc; i += 2) {
     const std::string flag = argv[i];
     if (flag == "--tilt-interval-ms") options.tilt_poll_interval_ms = std::atof(argv[i + 1]);
     if (flag == "--timeout-ms") timeout_ms = std::atoi(argv[i + 1]);
+    if (flag == "--throw-at-frame") throw_at_frame = std::atoll(argv[i + 1]);
   }
   std::filesystem::create_directories(out_dir);
   auto device = mocap::capture::CreateKinect1Device(options);
@@ -72,6 +76,7 @@ int main(int argc, char** argv) {
   std::mutex mutex;
   std::vector<RgbdFrame> received;
   device->Start([&](RgbdFrame&& frame) {
+    if (frame.sequence == throw_at_frame) throw std::runtime_error("stop requested by the test");
     std::lock_guard lock(mutex);
     received.push_back(std::move(frame));
   });
