@@ -1,6 +1,7 @@
 #include "capture/kinect/kinect1_depth.h"
 
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 #include "core/check.h"
@@ -51,11 +52,16 @@ Raw11ToMmTable Raw11ToMmTable::FromDevice(std::span<const uint16_t> device_table
   return table;
 }
 
-cv::Mat Raw11ToMmTable::Convert(const uint16_t* raw, int width, int height) const {
+cv::Mat Raw11ToMmTable::Convert(const void* raw, int width, int height) const {
   cv::Mat depth_mm(height, width, CV_16UC1);
   const size_t count = static_cast<size_t>(width) * static_cast<size_t>(height);
+  const auto* bytes = static_cast<const unsigned char*>(raw);
   auto* out = depth_mm.ptr<uint16_t>();
-  for (size_t i = 0; i < count; ++i) out[i] = (*this)[raw[i]];
+  for (size_t i = 0; i < count; ++i) {
+    uint16_t code;
+    std::memcpy(&code, bytes + 2 * i, sizeof(code));
+    out[i] = (*this)[code];
+  }
   return depth_mm;
 }
 

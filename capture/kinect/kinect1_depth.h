@@ -45,8 +45,9 @@ class Raw11ToMmTable {
   static Raw11ToMmTable FromDevice(std::span<const uint16_t> device_table);
 
   uint16_t operator[](uint16_t raw) const { return raw < table_.size() ? table_[raw] : 0; }
-  /// Converts a 640x480 buffer of raw codes into a new CV_16UC1 image in mm.
-  cv::Mat Convert(const uint16_t* raw, int width, int height) const;
+  /// Converts a buffer of width x height native-endian uint16 raw codes into a new CV_16UC1 image in mm.
+  /// The buffer need not be 2-byte aligned (fakenect 0.5.3 hands out its file buffer past the PGM header).
+  cv::Mat Convert(const void* raw, int width, int height) const;
   bool from_device() const { return from_device_; }
 
  private:

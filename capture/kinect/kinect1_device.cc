@@ -8,6 +8,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <thread>
 
@@ -249,9 +250,12 @@ void Kinect1Device::OnDepth(const void* data, uint32_t ticks_raw) {
   depth.host_ns = MonotonicNowNs();
   depth.ticks_raw = ticks_raw;
   depth.ticks = depth_unwrapper_.Unwrap(ticks_raw);
-  const auto* pixels = static_cast<const uint16_t*>(data);
-  depth.image = registered_mode_ ? cv::Mat(kHeight, kWidth, CV_16UC1, const_cast<uint16_t*>(pixels)).clone()
-                                 : raw_to_mm_.Convert(pixels, kWidth, kHeight);
+  if (registered_mode_) {
+    depth.image.create(kHeight, kWidth, CV_16UC1);
+    std::memcpy(depth.image.data, data, depth.image.total() * sizeof(uint16_t));  // data may be unaligned
+  } else {
+    depth.image = raw_to_mm_.Convert(data, kWidth, kHeight);
+  }
   if (auto pair = pairer_.AddDepth(std::move(depth))) Emit(std::move(*pair));
 }
 

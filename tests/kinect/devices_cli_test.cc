@@ -20,7 +20,11 @@ namespace fs = std::filesystem;
 
 testing::ProcessResult Devices(std::vector<std::string> args) {
   args.insert(args.begin(), {MOCAPLABEL_EXE, "devices", "--dev-dir", "/nonexistent-dev"});
-  const fs::path log = fs::path(MOCAP_BINARY_DIR) / "test_output" / "kinect" / "devices_cli.log";
+  // One log per run: ctest may run these tests in parallel.
+  static int runs = 0;
+  const std::string test = ::testing::UnitTest::GetInstance()->current_test_info()->name();
+  const fs::path log = fs::path(MOCAP_BINARY_DIR) / "test_output" / "kinect" /
+                       ("devices_cli_" + test + "_" + std::to_string(runs++) + ".log");
   fs::create_directories(log.parent_path());
   return testing::RunProcess(args, {}, log);
 }
