@@ -82,12 +82,26 @@ class Kinect1Device final : public CameraDevice {
   void OnColor(const void* data, uint32_t ticks_raw);
   void Emit(ImagePair&& pair);
 
+  // Exceptions must not unwind through libfreenect's C frames (it would skip its own clean-up): the
+  // trampolines keep the first failure and Run() ends the stream with it once the C call has returned.
   static void DepthTrampoline(freenect_device* device, void* data, uint32_t timestamp) {
-    static_cast<Kinect1Device*>(freenect_get_user(device))->OnDepth(data, timestamp);
+    auto* self = static_cast<Kinect1Device*>(freenect_get_user(device));
+    self->Guarded([&] { self->OnDepth(data, timestamp); });
   }
   static void ColorTrampoline(freenect_device* device, void* data, uint32_t timestamp) {
-    static_cast<Kinect1Device*>(freenect_get_user(device))->OnColor(data, timestamp);
+    auto* self = static_cast<Kinect1Device*>(freenect_get_user(device));
+    self->Guarded([&] { self->OnColor(data, timestamp); });
   }
+  template <typename Fn>
+  void Guarded(Fn&& fn) {
+    if (callback_error_) return;
+    try {
+      fn();
+    } catch (const std::exception& e) {
+      callback_error_ = std::string("kinect1: the frame callback failed: ") + e.what();
+    }
+  }
+  std::optional<std::string> callback_error_;
 
   Kinect1Options options_;
   LibfreenectInfo library_;
@@ -203,17 +217,16 @@ void Kinect1Device::DoStart() {
     throw DeviceError("kinect1: cannot start the depth and colour streams");
   }
   stop_ = false;
+  callback_error_.reset();
   thread_ = std::thread([this] { Run(); });
 }
 
 void Kinect1Device::Run() {
   while (!stop_) {
     timeval timeout{0, 100'000};
-    int rc = 0;
-    try {
-      rc = freenect_process_events_timeout(context_, &timeout);  // runs the frame callbacks
-    } catch (const std::exception& e) {
-      ReportStreamEnd(std::string("kinect1: the frame callback failed: ") + e.what());
+    const int rc = freenect_process_events_timeout(context_, &timeout);  // runs the frame callbacks
+    if (callback_error_) {
+      ReportStreamEnd(*callback_error_);
       return;
     }
     if (rc < 0 && rc != kUsbInterrupted) {
