@@ -9,5 +9,6 @@ int RunDoctor(int argc, char** argv);
 int RunLabel(int argc, char** argv);
 int RunNdiEmulator(int argc, char** argv);
 int RunSim(int argc, char** argv);
+int RunDevices(int argc, char** argv);
 
 }  // namespace mocap::cli
