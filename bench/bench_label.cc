@@ -1,0 +1,98 @@
+// The whole labelling path at 640x480 (bench/RESULTS.md): a recorded session of a tracked camera and 3
+// tracked objects of about 20k triangles each, through `LabelSession` with every default output written
+// (instance and class PNGs, rendered depth EXR, three masks per object, labels.jsonl) and the measured
+// depth read for the visibility test. Reports labelled frames per second and the renderer's share of
+// the worker time.
+#include <benchmark/benchmark.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "label/labeller.h"
+#include "render/primitives.h"
+#include "session/writer.h"
+
+namespace mocap {
+namespace {
+
+namespace fs = std::filesystem;
+constexpr int64_t kMs = 1'000'000;
+constexpr int kFrames = 60;
+const PinholeCamera kCamera{640, 480, 525.0, 525.0, 319.5, 239.5, {}};
+
+void WriteObj(const Mesh& mesh, const fs::path& path) {
+  std::ofstream out(path);
+  for (const auto& p : mesh.positions_m) out << "v " << p.x() << ' ' << p.y() << ' ' << p.z() << '\n';
+  for (size_t i = 0; i < mesh.indices.size(); i += 3)
+    out << "f " << mesh.indices[i] + 1 << ' ' << mesh.indices[i + 1] + 1 << ' ' << mesh.indices[i + 2] + 1 << '\n';
+}
+
+/// Objects 0.7-1.0 m in front of a static camera, each moving 0.1 m/s sideways; a wall at 1.5 m.
+Rigid3d ObjectPose(int i, int64_t t_ns) {
+  const double s = static_cast<double>(t_ns) * 1e-9;
+  return Rigid3d::FromRvec({0.3 * i, 0.2 + 0.5 * s, 0}, {-0.15 + 0.12 * i + 0.1 * s, 0.03 * i, 0.7 + 0.1 * i});
+}
+
+fs::path WriteBenchSession(const fs::path& dir, std::vector<LabelObject>& objects) {
+  SessionManifest manifest;
+  manifest.source = "bench";
+  CameraStreamInfo cam;
+  cam.name = "kinect1";
+  cam.model = "sim";
+  cam.color_camera = cam.depth_camera = kCamera;
+  cam.camera_body = "cambody";
+  manifest.cameras.push_back(cam);
+  manifest.trackers.push_back({"ndi", "sim", "", "tracker", {"cambody", "obj0", "obj1", "obj2"}});
+  for (int i = 0; i < 3; ++i) {
+    const fs::path mesh = dir / ("sphere" + std::to_string(i) + ".obj");
+    WriteObj(MakeSphereMesh(0.06 + 0.02 * i, 20000), mesh);
+    objects.push_back({.id = i + 1, .name = "sphere" + std::to_string(i), .object_class = "sphere",
+                       .mesh_path = mesh, .unit_scale_to_m = 1.0, .mounts = {{"obj" + std::to_string(i), {}}}});
+  }
+  auto writer = SessionWriter::Create(dir / "S", manifest);
+  for (int64_t t = 0; t <= (kFrames + 2) * 34 * kMs; t += 10 * kMs) {
+    writer->WriteTrackerSample("ndi", {"cambody", PoseStatus::kValid, t / (10 * kMs), 0, t, Rigid3d(), 0, 0});
+    for (int i = 0; i < 3; ++i)
+      writer->WriteTrackerSample("ndi", {"obj" + std::to_string(i), PoseStatus::kValid, t / (10 * kMs), 0, t,
+                                         ObjectPose(i, t), 0, 0});
+  }
+  const cv::Mat color(480, 640, CV_8UC3, cv::Scalar(90, 110, 130));
+  const cv::Mat depth(480, 640, CV_16UC1, cv::Scalar(1500));
+  for (int f = 0; f < kFrames; ++f) {
+    CameraFrameRecord record;
+    record.frame = f;
+    record.stamp_ns = 20 * kMs + f * 33 * kMs;
+    writer->WriteCameraFrame("kinect1", record, color, depth);
+  }
+  writer->Close();
+  return dir / "S";
+}
+
+void BM_LabelSession(benchmark::State& state) {
+  const fs::path dir = fs::temp_directory_path() / ("mocaplabel_bench_label_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  std::vector<LabelObject> objects;
+  const SessionReader session = SessionReader::Open(WriteBenchSession(dir, objects));
+  LabelOptions options;
+  options.out_dir = dir / "L";
+  options.threads = static_cast<int>(state.range(0));
+  double seconds = 0, render_seconds = 0;
+  int64_t frames = 0;
+  for (auto _ : state) {
+    const LabelSummary summary = LabelSession(session, objects, Rig{}, options);
+    seconds += summary.seconds;
+    render_seconds += summary.render_seconds;
+    frames += summary.frames;
+  }
+  state.counters["frames_per_s"] = static_cast<double>(frames) / seconds;
+  state.counters["render_share"] = render_seconds / (seconds * options.threads);
+  fs::remove_all(dir);
+}
+BENCHMARK(BM_LabelSession)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->Iterations(3)->UseRealTime();
+
+}  // namespace
+}  // namespace mocap
+
+BENCHMARK_MAIN();
