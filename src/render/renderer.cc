@@ -128,8 +128,9 @@ void MakeLayer(const RenderCanvas& canvas, const PixelRect& r, const std::vector
 /// Nearest-wins composition of one layer into the instance and depth images (ties: earlier layer).
 void Composite(const ObjectLayer& layer, RenderOutput& out) {
   const PixelRect& r = layer.rect;
+  if (r.empty()) return;  // an object outside the image has no layer pixels (and an empty depth_m)
   for (int v = r.y; v < r.y + r.height; ++v) {
-    const float* row = &layer.depth_m[static_cast<size_t>(v - r.y) * r.width];
+    const float* row = layer.depth_m.data() + static_cast<size_t>(v - r.y) * r.width;
     for (int u = r.x; u < r.x + r.width; ++u) {
       const float z = row[u - r.x];
       if (!(z > 0.0f)) continue;
