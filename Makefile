@@ -32,8 +32,7 @@ test-unit: build
 # library and so cannot suppress. AddressSanitizer and UBSan still check them. (Selected by test name:
 # ctest keeps only the first of several labels of a discovered gtest.)
 EGL_TESTS = ^(render_egl_test|label_test|labeller_test)/
-SAN_ENV = ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-	  LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp
+SAN_ENV = ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 test-asan: build-asan
 	$(SAN_ENV) ctest --test-dir $(ASAN_DIR) --output-on-failure -j $(JOBS) -LE 'e2e|slow' -E '$(EGL_TESTS)'
 	$(SAN_ENV) ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 \
