@@ -13,6 +13,7 @@ const std::vector<Command>& AllCommands() {
       {"ndi-emulator", "emulate an NDI tracker (Combined API) on loopback", RunNdiEmulator},
       {"sim", "simulated rig: object meshes, scenario checks", RunSim},
       {"devices", "list attached Kinects, serial adapters and network trackers", RunDevices},
+      {"validate", "check every label against the measured depth (SegICP): verdicts and a report", RunValidate},
   };
   return commands;
 }

@@ -4,6 +4,7 @@
 #include <cstdio>
 
 #include "core/check.h"
+#include "validate/frame_visibility.h"
 
 namespace mocap {
 namespace {
@@ -12,15 +13,6 @@ std::string Fixed(double value, int digits) {
   char buffer[32];
   std::snprintf(buffer, sizeof buffer, "%.*f", digits, value);
   return buffer;
-}
-
-LabelCheck BadInput(VerdictReason code, std::string reason, int points = 0) {
-  LabelCheck check;
-  check.verdict = Verdict::kSuspect;
-  check.reason_code = code;
-  check.reason = std::move(reason);
-  check.scene_points = points;
-  return check;
 }
 
 /// Label score, errors, success and verdict once an estimate (or none) is known.
@@ -38,6 +30,15 @@ void Finish(const KdTree& tree, const Rigid3d& label, const CropSource& model, c
 }
 
 }  // namespace
+
+LabelCheck BadInputCheck(VerdictReason code, std::string reason, int scene_points) {
+  LabelCheck check;
+  check.verdict = Verdict::kSuspect;
+  check.reason_code = code;
+  check.reason = std::move(reason);
+  check.scene_points = scene_points;
+  return check;
+}
 
 std::string_view ToString(Verdict verdict) {
   switch (verdict) {
@@ -59,8 +60,20 @@ std::string_view ToString(VerdictReason reason) {
     case VerdictReason::kMaskSizeMismatch: return "mask_size_mismatch";
     case VerdictReason::kEmptyMask: return "empty_mask";
     case VerdictReason::kTooFewPoints: return "too_few_points";
+    case VerdictReason::kUnreadableInput: return "unreadable_input";
   }
   return "unknown";
+}
+
+bool IsBadInput(VerdictReason reason) {
+  switch (reason) {
+    case VerdictReason::kNoDepth:
+    case VerdictReason::kMaskSizeMismatch:
+    case VerdictReason::kEmptyMask:
+    case VerdictReason::kTooFewPoints:
+    case VerdictReason::kUnreadableInput: return true;
+    default: return false;
+  }
 }
 
 PoseErrors ComputePoseErrors(const Rigid3d& estimate, const Rigid3d& reference) {
@@ -98,7 +111,7 @@ LabelCheck CheckLabel(const PointCloud& scene_camera, const Rigid3d& T_camera_ob
                       const std::vector<ModelCrop>& view_crops, const ValidateOptions& options) {
   const PointCloud scene = VoxelDownsample(scene_camera, options.scene_voxel_m);
   if (static_cast<int>(scene.size()) < options.min_scene_points)
-    return BadInput(VerdictReason::kTooFewPoints,
+    return BadInputCheck(VerdictReason::kTooFewPoints,
                     Str("too few scene points (", scene.size(), " < ", options.min_scene_points, ")"),
                     static_cast<int>(scene.size()));
   const KdTree tree(scene);
@@ -122,7 +135,7 @@ LabelCheck CheckLabelWithTrack(const PointCloud& scene_camera, const Rigid3d& T_
                                const CropSource& model, const TrackStep& track, const ValidateOptions& options) {
   const PointCloud scene = VoxelDownsample(scene_camera, options.scene_voxel_m);
   if (static_cast<int>(scene.size()) < options.min_scene_points)
-    return BadInput(VerdictReason::kTooFewPoints,
+    return BadInputCheck(VerdictReason::kTooFewPoints,
                     Str("too few scene points (", scene.size(), " < ", options.min_scene_points, ")"),
                     static_cast<int>(scene.size()));
   const KdTree tree(scene);
@@ -138,20 +151,28 @@ LabelCheck CheckLabelWithTrack(const PointCloud& scene_camera, const Rigid3d& T_
   return check;
 }
 
+std::optional<LabelCheck> CheckFrameInput(const DepthImage& depth_m, const PinholeCamera& camera,
+                                          const LabelImage& mask, uint16_t label_id) {
+  if (depth_m.empty()) return BadInputCheck(VerdictReason::kNoDepth, "frame has no depth image");
+  if (mask.width != depth_m.width || mask.height != depth_m.height)
+    return BadInputCheck(VerdictReason::kMaskSizeMismatch, Str("mask is ", mask.width, "x", mask.height, ", depth is ",
+                                                               depth_m.width, "x", depth_m.height));
+  if (camera.width != depth_m.width || camera.height != depth_m.height)
+    return BadInputCheck(VerdictReason::kMaskSizeMismatch, Str("camera is ", camera.width, "x", camera.height,
+                                                               ", depth is ", depth_m.width, "x", depth_m.height));
+  if (label_id == 0 || std::find(mask.data.begin(), mask.data.end(), label_id) == mask.data.end())
+    return BadInputCheck(VerdictReason::kEmptyMask, Str("mask has no pixel of label ", label_id));
+  return std::nullopt;
+}
+
 LabelCheck CheckLabelInFrame(const DepthImage& depth_m, const PinholeCamera& camera, const LabelImage& mask,
                              uint16_t label_id, const Rigid3d& T_camera_object_label, const CropSource& model,
                              const std::vector<ModelCrop>& view_crops, const ValidateOptions& options) {
-  if (depth_m.empty()) return BadInput(VerdictReason::kNoDepth, "frame has no depth image");
-  if (mask.width != depth_m.width || mask.height != depth_m.height)
-    return BadInput(VerdictReason::kMaskSizeMismatch, Str("mask is ", mask.width, "x", mask.height, ", depth is ",
-                                                          depth_m.width, "x", depth_m.height));
-  if (camera.width != depth_m.width || camera.height != depth_m.height)
-    return BadInput(VerdictReason::kMaskSizeMismatch, Str("camera is ", camera.width, "x", camera.height,
-                                                          ", depth is ", depth_m.width, "x", depth_m.height));
-  if (label_id == 0 || std::find(mask.data.begin(), mask.data.end(), label_id) == mask.data.end())
-    return BadInput(VerdictReason::kEmptyMask, Str("mask has no pixel of label ", label_id));
-  return CheckLabel(DepthToPointsMasked(depth_m, camera, mask, label_id), T_camera_object_label, model, view_crops,
-                    options);
+  if (auto bad = CheckFrameInput(depth_m, camera, mask, label_id)) return *bad;
+  const PointCloud scene = DepthToPointsMasked(depth_m, camera, mask, label_id);
+  if (options.occluder_margin_m <= 0) return CheckLabel(scene, T_camera_object_label, model, view_crops, options);
+  const VisibleInFrameCropSource visible(model, camera, depth_m, mask, label_id, options.occluder_margin_m);
+  return CheckLabel(scene, T_camera_object_label, visible, view_crops, options);
 }
 
 }  // namespace mocap

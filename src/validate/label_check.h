@@ -2,6 +2,7 @@
 // The per-frame, per-object label check: an independent SegICP pose from the measured depth, its errors
 // against the label (the paper's three: position, rotation axis, rotation angle), the paper's success
 // criterion, the alignment score of the label pose itself, and a verdict with its reason.
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -27,8 +28,11 @@ enum class VerdictReason {
   kMaskSizeMismatch,     ///< the mask and depth sizes differ
   kEmptyMask,            ///< no pixel carries the object's label
   kTooFewPoints,         ///< too few valid depth points under the mask
+  kUnreadableInput,      ///< the frame's depth or mask file is missing or cannot be read
 };
 std::string_view ToString(VerdictReason reason);
+/// True for the reasons given when the input could not be checked (no estimate was attempted).
+bool IsBadInput(VerdictReason reason);
 
 /// The paper's three errors of an estimate against a reference pose.
 struct PoseErrors {
@@ -68,6 +72,14 @@ LabelCheck CheckLabelWithTrack(const PointCloud& scene_camera, const Rigid3d& T_
 LabelCheck CheckLabelInFrame(const DepthImage& depth_m, const PinholeCamera& camera, const LabelImage& mask,
                              uint16_t label_id, const Rigid3d& T_camera_object_label, const CropSource& model,
                              const std::vector<ModelCrop>& view_crops, const ValidateOptions& options);
+
+/// The input checks of CheckLabelInFrame alone: a suspect LabelCheck naming the problem (no depth, sizes
+/// differ, empty mask), or nullopt when the object's cloud can be cut from the frame.
+std::optional<LabelCheck> CheckFrameInput(const DepthImage& depth_m, const PinholeCamera& camera,
+                                          const LabelImage& mask, uint16_t label_id);
+
+/// A suspect LabelCheck for input that cannot be checked (`code` is one of the bad-input reasons).
+LabelCheck BadInputCheck(VerdictReason code, std::string reason, int scene_points = 0);
 
 /// The verdict rules alone (docs/validation.md "Verdicts"); fills verdict, reason_code, reason.
 void DecideVerdict(const VerdictOptions& options, LabelCheck* check);

@@ -23,6 +23,7 @@ void VerdictOptions::check() const {
 
 void ValidateOptions::check() const {
   if (!(scene_voxel_m >= 0)) throw InputError("ValidateOptions", "scene_voxel_m must be >= 0");
+  if (!(occluder_margin_m >= 0)) throw InputError("ValidateOptions", "occluder_margin_m must be >= 0");
   if (min_scene_points < 3) throw InputError("ValidateOptions", "min_scene_points must be >= 3");
   alignment.check();
   crop.check();

@@ -57,6 +57,9 @@ struct ValidateOptions {
   double scene_voxel_m = 0.003;
   /// Fewer scene points than this (after thinning) and the object is not checked.
   int min_scene_points = 50;
+  /// Checks in a frame drop crop points that the measured depth shows hidden behind something nearer by
+  /// more than this (VisibleInFrameCropSource); 0 keeps every crop point (the paper's plain crops).
+  double occluder_margin_m = 0.03;
   AcquisitionSeed check_seed = AcquisitionSeed::kLabel;
   AlignmentOptions alignment;
   CropOptions crop;

@@ -1,0 +1,83 @@
+// mocaplabel validate S --labels L [--masks DIR] [--out DIR]: the SegICP check of every label against the
+// measured depth (src/validate/session_check.h), with validation.jsonl, validation.json and report.html.
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <nlohmann/json.hpp>
+
+#include "cli/commands.h"
+#include "cli/objects_yaml.h"
+#include "core/check.h"
+#include "validate/validation_output.h"
+
+namespace mocap::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::vector<ValidationObject> FindObjects(const fs::path& session, const std::string& objects_flag) {
+  fs::path file = objects_flag;
+  if (file.empty()) file = session / "objects.yaml";
+  if (!fs::exists(file))
+    throw InputError(file.string(), "no object library; pass --objects (the one the label run used)");
+  std::vector<ValidationObject> objects;
+  for (const LabelObject& o : LoadObjectsYaml(file)) objects.push_back({o.id, o.name, o.mesh_path, o.unit_scale_to_m});
+  return objects;
+}
+
+void PrintHuman(const ValidationSummary& s, const fs::path& out) {
+  std::printf("checked %lld of %lld label records (%lld without a pose); SegICP success %.1f %%\n",
+              static_cast<long long>(s.records_checked), static_cast<long long>(s.records),
+              static_cast<long long>(s.records_without_pose), 100 * s.segicp_success_rate);
+  std::printf("verdicts:");
+  for (const auto& [v, n] : s.verdicts) std::printf("  %s=%lld", v.c_str(), static_cast<long long>(n));
+  std::printf("\nposition error median %.2f mm (p95 %.2f), rotation median %.2f deg (p95 %.2f)\n",
+              s.position_error_mm.median, s.position_error_mm.p95, s.rotation_angle_error_deg.median,
+              s.rotation_angle_error_deg.p95);
+  if (s.has_segmentation)
+    std::printf("masks: IoU median %.3f (std %.3f), precision %.3f, recall %.3f\n", s.iou.median, s.iou.std,
+                s.precision.median, s.recall.median);
+  std::printf("%.2f s; report in %s\n", s.seconds, (out / "report.html").string().c_str());
+}
+
+}  // namespace
+
+int RunValidate(int argc, char** argv) {
+  CLI::App app{"Check every label against the measured depth with SegICP; verdicts and a report", "mocaplabel validate"};
+  std::string session_dir, labels_dir, objects_file, masks_dir, out_dir, mask_values = "object", crops = "surface",
+                                                                         seed = "label", platform = "auto";
+  SessionCheckOptions options;
+  bool json = false;
+  app.add_option("session", session_dir, "session folder")->required();
+  app.add_option("--labels", labels_dir, "label run folder (default: SESSION/labels)");
+  app.add_option("--objects", objects_file, "object library YAML (default: the session's objects.yaml)");
+  app.add_option("--masks", masks_dir, "user masks: DIR/<camera>/NNNNNN.png (or DIR/NNNNNN.png), 0 = background");
+  app.add_option("--mask-values", mask_values, "what user mask pixels hold: object (id) or instance")
+      ->check(CLI::IsMember({"object", "instance"}));
+  app.add_option("--out", out_dir, "output folder (default: SESSION/validation)");
+  app.add_option("--crops", crops, "model crops: surface (CPU z-buffer) or renderer (EGL)")
+      ->check(CLI::IsMember({"surface", "renderer"}));
+  app.add_option("--seed", seed, "acquisition seed: label (hypotheses about the label) or view-sphere (the paper)")
+      ->check(CLI::IsMember({"label", "view-sphere"}));
+  app.add_flag("--track", options.track, "sequence mode: a Kalman tracker per object instance over its frames");
+  app.add_option("--threads", options.threads, "worker threads (0: one per core)");
+  app.add_option("--platform", platform, "EGL platform for --crops renderer: auto, surfaceless or device");
+  app.add_flag("--json", json, "print validation.json on stdout");
+  CLI11_PARSE(app, argc, argv);
+
+  options.labels_dir = labels_dir.empty() ? fs::path(session_dir) / "labels" : fs::path(labels_dir);
+  options.masks_dir = masks_dir;
+  options.mask_values = mask_values == "object" ? MaskValues::kObjectId : MaskValues::kInstanceId;
+  options.crops = crops == "renderer" ? CropBackend::kRenderer : CropBackend::kSurface;
+  options.validate.check_seed = seed == "label" ? AcquisitionSeed::kLabel : AcquisitionSeed::kViewSphere;
+  options.context.platform = EglPlatformFromString(platform);
+  const fs::path out = out_dir.empty() ? fs::path(session_dir) / "validation" : fs::path(out_dir);
+  const SessionReader session = SessionReader::Open(session_dir);
+  const SessionValidation result = ValidateSession(session, FindObjects(session_dir, objects_file), options, out);
+  if (json)
+    std::printf("%s\n", ValidationSummaryJson(result.summary, options, session_dir).dump().c_str());
+  else
+    PrintHuman(result.summary, out);
+  return 0;
+}
+
+}  // namespace mocap::cli

@@ -1,0 +1,36 @@
+#include "validate/frame_visibility.h"
+
+#include <cmath>
+
+#include "core/check.h"
+
+namespace mocap {
+
+VisibleInFrameCropSource::VisibleInFrameCropSource(const CropSource& base, const PinholeCamera& camera,
+                                                   const DepthImage& depth_m, const LabelImage& mask,
+                                                   uint16_t label_id, double occluder_margin_m)
+    : base_(base), camera_(camera), depth_m_(depth_m), mask_(mask), label_id_(label_id), margin_m_(occluder_margin_m) {
+  MOCAP_CHECK(depth_m.width == camera.width && depth_m.height == camera.height, "depth and camera sizes differ");
+  MOCAP_CHECK(mask.width == depth_m.width && mask.height == depth_m.height, "depth and mask sizes differ");
+}
+
+ModelCrop VisibleInFrameCropSource::Crop(const Rigid3d& T_camera_model) const {
+  ModelCrop crop = base_.Crop(T_camera_model);
+  PointCloud visible;
+  visible.reserve(crop.points_model.size());
+  for (const Eigen::Vector3d& p_model : crop.points_model) {
+    const Eigen::Vector3d p_camera = T_camera_model * p_model;
+    const auto pixel = camera_.Project(p_camera);
+    if (!pixel) continue;
+    const int u = static_cast<int>(std::lround(pixel->x())), v = static_cast<int>(std::lround(pixel->y()));
+    if (!depth_m_.contains(u, v)) continue;  // outside the image: the frame cannot see it
+    const float measured_m = depth_m_.at(u, v);
+    const bool hidden = mask_.at(u, v) != label_id_ && measured_m > 0 && measured_m < p_camera.z() - margin_m_;
+    if (hidden) continue;  // something else in front
+    visible.push_back(p_model);
+  }
+  crop.points_model = std::move(visible);
+  return crop;
+}
+
+}  // namespace mocap

@@ -1,0 +1,33 @@
+#pragma once
+// Model crops as a real frame sees them: the crop of the wrapped source minus the points that something
+// else in front hides (a pixel outside the object's mask whose measured depth is nearer than the point by
+// more than a margin) or that fall outside the image. Without this, an object half hidden behind another scores about half, whatever its pose: the
+// scene cloud holds only its visible part, and a(M, S) counts every crop point.
+#include "core/camera.h"
+#include "core/image.h"
+#include "validate/model_crop.h"
+
+namespace mocap {
+
+class VisibleInFrameCropSource : public CropSource {
+ public:
+  /// `base`, `camera`, `depth_m` and `mask` must outlive this source; `T_camera_model` of each crop is in
+  /// this camera. A point is hidden when its pixel is not the object's (mask != label_id) and the measured
+  /// depth there is valid and nearer than the point's z by more than `occluder_margin_m`. Pixels of the
+  /// object itself never hide it, so a label behind the object's measured surface keeps all its points
+  /// and scores low. Precondition: depth, mask and camera have the same size.
+  VisibleInFrameCropSource(const CropSource& base, const PinholeCamera& camera, const DepthImage& depth_m,
+                           const LabelImage& mask, uint16_t label_id, double occluder_margin_m);
+  ModelCrop Crop(const Rigid3d& T_camera_model) const override;
+  const PointCloud& surface_model() const override { return base_.surface_model(); }
+
+ private:
+  const CropSource& base_;
+  const PinholeCamera& camera_;
+  const DepthImage& depth_m_;
+  const LabelImage& mask_;
+  uint16_t label_id_;
+  double margin_m_;
+};
+
+}  // namespace mocap

@@ -1,0 +1,276 @@
+#include "validate/session_check.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <exception>
+#include <memory>
+#include <mutex>
+#include <omp.h>
+#include <opencv2/imgcodecs.hpp>
+
+#include "core/check.h"
+#include "render/mesh.h"
+#include "validate/rendered_crop.h"
+
+namespace mocap {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string Stem(int64_t index) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%06lld", static_cast<long long>(index));
+  return buffer;
+}
+
+/// A label PNG (8- or 16-bit, one channel). Throws InputError naming the file.
+LabelImage ReadLabelPng(const fs::path& path) {
+  if (!fs::exists(path)) throw InputError(path.string(), "mask file is missing");
+  const cv::Mat m = cv::imread(path.string(), cv::IMREAD_UNCHANGED);
+  if (m.empty()) throw InputError(path.string(), "cannot be read as an image");
+  if (m.channels() != 1 || (m.depth() != CV_8U && m.depth() != CV_16U))
+    throw InputError(path.string(), "must be a single-channel 8- or 16-bit PNG of ids (0 = background)");
+  LabelImage out(m.cols, m.rows);
+  for (int v = 0; v < m.rows; ++v)
+    for (int u = 0; u < m.cols; ++u)
+      out.at(u, v) = m.depth() == CV_8U ? m.at<uint8_t>(v, u) : m.at<uint16_t>(v, u);
+  return out;
+}
+
+/// Everything one frame's records need, loaded once; a load failure is kept as a reason.
+struct FrameInputs {
+  DepthImage depth_m;
+  std::string depth_problem;  ///< non-empty: why there is no depth
+  VerdictReason depth_code = VerdictReason::kNoDepth;
+  LabelImage label_mask;      ///< the label run's instance PNG
+  std::string label_mask_problem;
+  LabelImage user_mask;
+  std::string user_mask_problem;
+  fs::path overlay;
+};
+
+fs::path UserMaskPath(const SessionReader& session, const fs::path& dir, const std::string& camera, int64_t index) {
+  const fs::path per_camera = dir / camera / (Stem(index) + ".png");
+  if (fs::exists(per_camera) || session.manifest().cameras.size() > 1) return per_camera;
+  return dir / (Stem(index) + ".png");
+}
+
+FrameInputs LoadFrame(const SessionReader& session, const std::string& camera, int64_t index,
+                      const SessionCheckOptions& options) {
+  FrameInputs in;
+  const CameraFrameEntry& entry = session.frame(camera, index);
+  const CameraStreamInfo* info = session.manifest().FindCamera(camera);
+  if (!entry.depth_present) {
+    in.depth_problem = "frame has no depth image";
+  } else if (!info->depth_registered_to_color) {
+    in.depth_problem = "depth is not registered to the colour camera the labels are in";
+  } else {
+    try {
+      in.depth_m = session.LoadDepth(camera, index);
+    } catch (const InputError& e) {
+      in.depth_problem = e.what();
+      in.depth_code = VerdictReason::kUnreadableInput;
+    }
+  }
+  const auto load = [](const fs::path& path, LabelImage& image, std::string& problem) {
+    try {
+      image = ReadLabelPng(path);
+    } catch (const InputError& e) {
+      problem = e.what();
+    }
+  };
+  load(options.labels_dir / camera / "instance" / (Stem(index) + ".png"), in.label_mask, in.label_mask_problem);
+  if (!options.masks_dir.empty())
+    load(UserMaskPath(session, options.masks_dir, camera, index), in.user_mask, in.user_mask_problem);
+  const fs::path overlay = options.labels_dir / camera / "overlay" / (Stem(index) + ".png");
+  if (fs::exists(overlay)) in.overlay = overlay;
+  return in;
+}
+
+std::optional<SegmentationScore> ScoreMasks(const LabelImage& user, uint16_t user_value, const LabelImage& label,
+                                            uint16_t label_value) {
+  if (user.empty() || label.empty() || user.width != label.width || user.height != label.height) return std::nullopt;
+  int64_t tp = 0, fp = 0, fn = 0;
+  for (size_t i = 0; i < user.data.size(); ++i) {
+    const bool predicted = user.data[i] == user_value, truth = label.data[i] == label_value;
+    tp += predicted && truth;
+    fp += predicted && !truth;
+    fn += !predicted && truth;
+  }
+  if (tp + fp + fn == 0) return std::nullopt;  // the object is in neither mask: nothing to score
+  const auto ratio = [](int64_t a, int64_t b) { return b > 0 ? static_cast<double>(a) / b : 0.0; };
+  return SegmentationScore{ratio(tp, tp + fp + fn), ratio(tp, tp + fp), ratio(tp, tp + fn)};
+}
+
+/// The mask and value a record's cloud is cut with, or the reason there is none.
+struct RecordMask {
+  const LabelImage* mask = nullptr;
+  uint16_t value = 0;
+  std::string problem;
+};
+RecordMask MaskOf(const FrameInputs& in, const RecordCheck& r, const SessionCheckOptions& options) {
+  if (options.masks_dir.empty()) return {&in.label_mask, static_cast<uint16_t>(r.instance), in.label_mask_problem};
+  const int value = options.mask_values == MaskValues::kObjectId ? r.object : r.instance;
+  return {&in.user_mask, static_cast<uint16_t>(value), in.user_mask_problem};
+}
+
+/// Input problems that stop a record before any cloud is cut (nullopt: usable).
+std::optional<LabelCheck> InputProblem(const FrameInputs& in, const RecordMask& mask, const PinholeCamera& camera) {
+  if (!in.depth_problem.empty()) return BadInputCheck(in.depth_code, in.depth_problem);
+  if (!mask.problem.empty()) return BadInputCheck(VerdictReason::kUnreadableInput, mask.problem);
+  return CheckFrameInput(in.depth_m, camera, *mask.mask, mask.value);
+}
+
+struct ObjectModel {
+  std::unique_ptr<CropSource> crops;
+  std::vector<ModelCrop> view_crops;  ///< for the view-sphere seed
+};
+
+std::map<int, ObjectModel> LoadModels(const std::vector<ValidationObject>& objects,
+                                      const std::vector<RecordCheck>& records, const SessionCheckOptions& options) {
+  std::map<int, ObjectModel> models;
+  for (const RecordCheck& r : records) {
+    if (models.contains(r.object)) continue;
+    const auto it = std::find_if(objects.begin(), objects.end(), [&](const auto& o) { return o.id == r.object; });
+    if (it == objects.end())
+      throw InputError(Str("labels.jsonl object ", r.object), "not among the objects given (pass the --objects the label run used)");
+    const Mesh mesh = LoadMesh(it->mesh_path.string(), it->unit_scale_to_m);
+    ObjectModel model;
+    if (options.crops == CropBackend::kRenderer)
+      model.crops = std::make_unique<RenderedCropSource>(mesh, options.validate.crop, options.context);
+    else
+      model.crops = std::make_unique<SurfaceCropSource>(SurfaceCropSource::FromMesh(ToTriangleMesh(mesh), options.validate.crop));
+    if (options.validate.check_seed == AcquisitionSeed::kViewSphere && !options.track)
+      model.view_crops = MakeViewSphereCrops(*model.crops, options.validate.acquisition);
+    models.emplace(r.object, std::move(model));
+  }
+  return models;
+}
+
+/// Runs body(i) for i in [0, n) on OpenMP threads; the first exception is rethrown after all finish.
+template <typename Body>
+void ParallelFor(int n, int threads, Body body) {
+  std::exception_ptr error;
+  std::mutex mutex;
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads > 0 ? threads : omp_get_max_threads())
+  for (int i = 0; i < n; ++i) {
+    try {
+      body(i);
+    } catch (...) {
+      std::lock_guard lock(mutex);
+      if (!error) error = std::current_exception();
+    }
+  }
+  if (error) std::rethrow_exception(error);
+}
+
+/// Groups record indices by key, each group in labels.jsonl order.
+template <typename Key>
+std::vector<std::vector<size_t>> GroupBy(const std::vector<RecordCheck>& records, Key key) {
+  std::map<decltype(key(records.front())), std::vector<size_t>> groups;
+  for (size_t i = 0; i < records.size(); ++i) groups[key(records[i])].push_back(i);
+  std::vector<std::vector<size_t>> out;
+  for (auto& [k, g] : groups) out.push_back(std::move(g));
+  return out;
+}
+
+void Score(const FrameInputs& in, const SessionCheckOptions& options, RecordCheck& r) {
+  r.overlay = in.overlay;
+  if (options.masks_dir.empty()) return;
+  const RecordMask mask = MaskOf(in, r, options);
+  r.segmentation = ScoreMasks(*mask.mask, mask.value, in.label_mask, static_cast<uint16_t>(r.instance));
+}
+
+/// One frame's records, each checked on its own.
+void CheckFrame(const SessionReader& session, const std::map<int, ObjectModel>& models,
+                const SessionCheckOptions& options, std::vector<RecordCheck>& records, const std::vector<size_t>& group) {
+  const RecordCheck& first = records[group.front()];
+  const FrameInputs in = LoadFrame(session, first.camera, first.index, options);
+  const PinholeCamera& camera = session.manifest().FindCamera(first.camera)->color_camera;
+  for (size_t i : group) {
+    RecordCheck& r = records[i];
+    const RecordMask mask = MaskOf(in, r, options);
+    const ObjectModel& model = models.at(r.object);
+    r.mode = "frame";
+    if (!in.depth_problem.empty() || !mask.problem.empty())
+      r.check = *InputProblem(in, mask, camera);
+    else
+      r.check = CheckLabelInFrame(in.depth_m, camera, *mask.mask, mask.value, r.T_camera_object_label, *model.crops,
+                                  model.view_crops, options.validate);
+    Score(in, options, r);
+  }
+}
+
+/// One instance's records in frame order through its own tracker.
+void CheckTrack(const SessionReader& session, const std::map<int, ObjectModel>& models,
+                const SessionCheckOptions& options, std::vector<RecordCheck>& records, std::vector<size_t> group) {
+  std::sort(group.begin(), group.end(), [&](size_t a, size_t b) { return records[a].index < records[b].index; });
+  const ObjectModel& model = models.at(records[group.front()].object);
+  ObjectTracker tracker(*model.crops, options.validate);
+  int64_t last_stamp_ns = 0;
+  for (size_t i : group) {
+    RecordCheck& r = records[i];
+    const FrameInputs in = LoadFrame(session, r.camera, r.index, options);
+    const PinholeCamera& camera = session.manifest().FindCamera(r.camera)->color_camera;
+    const RecordMask mask = MaskOf(in, r, options);
+    if (auto bad = InputProblem(in, mask, camera)) {
+      r.check = *bad;  // the tracker skips the frame: its filter bridges the gap at the next one
+      r.mode = "skipped";
+    } else {
+      const PointCloud scene = DepthToPointsMasked(in.depth_m, camera, *mask.mask, mask.value);
+      // Without a tracked camera body the camera is taken as static (motion all in the object).
+      const InterpolatedPose camera_pose = session.CameraPoseAtFrame(r.camera, r.index);
+      const int64_t stamp_ns = std::max(r.stamp_ns, last_stamp_ns + 1);
+      last_stamp_ns = stamp_ns;
+      const TrackStep step = tracker.Step(scene, camera_pose.ok() ? *camera_pose.pose : Rigid3d(), stamp_ns);
+      r.check = CheckLabelWithTrack(scene, r.T_camera_object_label, *model.crops, step, options.validate);
+      r.mode = std::string(ToString(step.mode));
+    }
+    Score(in, options, r);
+  }
+}
+
+}  // namespace
+
+void SessionCheckOptions::check() const {
+  if (labels_dir.empty()) throw InputError("validate", "no label folder given (--labels)");
+  if (!masks_dir.empty() && !fs::is_directory(masks_dir))
+    throw InputError(masks_dir.string(), "mask folder does not exist (--masks)");
+  if (threads < 0) throw InputError("validate", "threads must be >= 0");
+  validate.check();
+  context.check();
+}
+
+SessionValidation CheckSession(const SessionReader& session, const std::vector<ValidationObject>& objects,
+                               const SessionCheckOptions& options) {
+  options.check();
+  const auto start = std::chrono::steady_clock::now();
+  LabelRecordsFile file = ReadLabelRecords(options.labels_dir);
+  std::vector<RecordCheck>& records = file.records;
+  for (const RecordCheck& r : records) {
+    if (!session.manifest().FindCamera(r.camera))
+      throw InputError(Str("labels.jsonl camera \"", r.camera, "\""), "not in the session; is it the session the labels came from?");
+    if (r.index < 0 || r.index >= session.frame_count(r.camera))
+      throw InputError(Str("labels.jsonl ", r.camera, " frame ", r.index), "beyond the session's frames");
+  }
+  SessionValidation out;
+  if (!records.empty()) {
+    const std::map<int, ObjectModel> models = LoadModels(objects, records, options);
+    if (options.track) {
+      const auto groups = GroupBy(records, [](const RecordCheck& r) { return std::make_pair(r.camera, r.instance); });
+      ParallelFor(static_cast<int>(groups.size()), options.threads,
+                  [&](int g) { CheckTrack(session, models, options, records, groups[g]); });
+    } else {
+      const auto groups = GroupBy(records, [](const RecordCheck& r) { return std::make_pair(r.camera, r.index); });
+      ParallelFor(static_cast<int>(groups.size()), options.threads,
+                  [&](int g) { CheckFrame(session, models, options, records, groups[g]); });
+    }
+  }
+  out.summary = Summarise(records, file.total);
+  out.summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  out.records = std::move(records);
+  return out;
+}
+
+}  // namespace mocap

@@ -1,0 +1,122 @@
+#pragma once
+// The session-level label check behind `mocaplabel validate` (docs/validation.md "Session check"): every
+// labels.jsonl record with a pose is checked against the session's measured depth, cropped with the
+// label's visible mask (the instance PNG) or with user masks, and gets a LabelCheck (SegICP pose,
+// errors, success, label score, verdict). With user masks, their IoU / precision / recall against the
+// label masks are measured too.
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "render/render_context.h"
+#include "session/reader.h"
+#include "validate/label_check.h"
+
+namespace mocap {
+
+/// An object of the label run: the id labels.jsonl calls `object`, and its mesh.
+struct ValidationObject {
+  int id = 0;
+  std::string name;
+  std::filesystem::path mesh_path;
+  double unit_scale_to_m = 1.0;  ///< 0.001 for a mesh in millimetres
+};
+
+/// What the pixel values of user masks (`--masks`) mean.
+enum class MaskValues {
+  kObjectId,    ///< the object id (objects.yaml `id`, labels.jsonl `object`, the label run's class PNGs)
+  kInstanceId,  ///< the instance id (labels.jsonl `instance`, the label run's instance PNGs)
+};
+
+/// Where model crops come from.
+enum class CropBackend {
+  kSurface,   ///< SurfaceCropSource: CPU z-buffer over surface samples (parallel, no GL context)
+  kRenderer,  ///< RenderedCropSource: the EGL renderer's depth of the mesh
+};
+
+struct SessionCheckOptions {
+  /// The label run's folder (labels.jsonl, <camera>/instance/NNNNNN.png).
+  std::filesystem::path labels_dir;
+  /// User masks: DIR/<camera>/NNNNNN.png, or DIR/NNNNNN.png for a single-camera session; 8- or 16-bit
+  /// single channel, 0 = background. Empty: the label run's instance PNGs.
+  std::filesystem::path masks_dir;
+  MaskValues mask_values = MaskValues::kObjectId;
+  CropBackend crops = CropBackend::kSurface;
+  /// Sequence mode: one ObjectTracker per (camera, instance) runs over its frames in order and each label
+  /// is checked against the tracker's measurement (CheckLabelWithTrack). Off: every record is checked
+  /// on its own (CheckLabelInFrame, seeded as validate.check_seed says).
+  bool track = false;
+  int threads = 0;  ///< worker threads; 0 = OpenMP's default
+  ValidateOptions validate;
+  RenderContextOptions context;  ///< for CropBackend::kRenderer
+  void check() const;            ///< throws InputError
+};
+
+/// Mask agreement of one record (user mask against the label's visible mask), pixels counted once.
+struct SegmentationScore {
+  double iou = 0.0, precision = 0.0, recall = 0.0;
+};
+
+/// The check of one labels.jsonl record.
+struct RecordCheck {
+  std::string camera;
+  int64_t index = 0;      ///< frame index in the camera stream
+  int64_t stamp_ns = 0;
+  int object = 0;
+  std::string name;
+  int instance = 0;
+  Rigid3d T_camera_object_label;
+  LabelCheck check;
+  std::string mode;                             ///< "frame", or the tracker phase ("acquisition", "tracking")
+  std::optional<SegmentationScore> segmentation;  ///< with user masks, when either mask has pixels
+  std::filesystem::path overlay;                  ///< the label run's overlay of the frame, if it wrote one
+};
+
+/// Median and spread of one quantity over records.
+struct Stat {
+  int64_t count = 0;
+  double median = 0.0, p95 = 0.0, std = 0.0, max = 0.0;
+};
+Stat ComputeStat(std::vector<double> values);
+
+struct ValidationSummary {
+  int64_t records = 0;               ///< labels.jsonl records
+  int64_t records_without_pose = 0;  ///< not checked: the label has no pose
+  int64_t records_checked = 0;       ///< with a pose and usable input (an estimate was attempted)
+  /// Paper's success criterion over records_checked (0 when none).
+  double segicp_success_rate = 0.0;
+  std::map<std::string, int64_t> verdicts;  ///< accept / suspect / reject over records with a pose
+  std::map<std::string, int64_t> reasons;   ///< reason codes over records with a pose
+  Stat position_error_mm, rotation_axis_error_deg, rotation_angle_error_deg;  ///< over estimated records
+  Stat label_score;
+  bool has_segmentation = false;
+  Stat iou, precision, recall;  ///< with user masks
+  double seconds = 0.0;
+};
+
+struct SessionValidation {
+  std::vector<RecordCheck> records;  ///< records with a pose, in labels.jsonl order
+  ValidationSummary summary;
+};
+
+/// Checks every record of the label run against `session`. `objects` must cover every object id of
+/// labels.jsonl. Bad frames (no depth, unreadable or missing masks, masks of the wrong size, too few
+/// points) give suspect verdicts with reasons; throws InputError only for unusable inputs as a whole
+/// (missing labels.jsonl, a record naming an unknown object or camera, a mesh that cannot be loaded).
+SessionValidation CheckSession(const SessionReader& session, const std::vector<ValidationObject>& objects,
+                               const SessionCheckOptions& options);
+
+/// Reads a label run's labels.jsonl (records without a pose are counted, not returned).
+struct LabelRecordsFile {
+  std::vector<RecordCheck> records;  ///< identity and label pose filled, checks empty
+  int64_t total = 0;
+};
+LabelRecordsFile ReadLabelRecords(const std::filesystem::path& labels_dir);
+
+/// Fills the summary from the record checks.
+ValidationSummary Summarise(const std::vector<RecordCheck>& records, int64_t total_records);
+
+}  // namespace mocap

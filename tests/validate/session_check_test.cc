@@ -1,0 +1,141 @@
+// The session-level check on LM-O scene 2 (real meshes, ground-truth poses, real occlusions; depth
+// rendered at the ground truth with Kinect1 noise, since the scene ships no depth images): correct labels
+// are accepted, 1 cm and 5 deg mount errors are flagged, and bad input gives verdicts with reasons.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <set>
+#include <opencv2/imgcodecs.hpp>
+
+#include "session_fixture.h"
+#include "validate/validation_output.h"
+
+namespace mocap {
+namespace {
+
+namespace fs = std::filesystem;
+
+class SessionCheckTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new fs::path(testing::FreshTempDir("validate_session"));
+    scene_ = new testing::BopDepthScene(testing::MakeBopDepthScene(*dir_, {kNoDepthFrame}, 7));
+    session_ = new SessionReader(SessionReader::Open(scene_->session));
+  }
+  static void TearDownTestSuite() {
+    delete session_;
+    delete scene_;
+    fs::remove_all(*dir_);
+    delete dir_;
+  }
+  static SessionCheckOptions Options(const fs::path& labels) {
+    SessionCheckOptions o;
+    o.labels_dir = labels;
+    o.threads = 2;
+    return o;
+  }
+  static constexpr int64_t kNoDepthFrame = 4;
+  static fs::path* dir_;
+  static testing::BopDepthScene* scene_;
+  static SessionReader* session_;
+};
+fs::path* SessionCheckTest::dir_ = nullptr;
+testing::BopDepthScene* SessionCheckTest::scene_ = nullptr;
+SessionReader* SessionCheckTest::session_ = nullptr;
+
+TEST_F(SessionCheckTest, AcceptsCorrectLabelsAndFlagsMountErrors) {
+  const SessionValidation good = CheckSession(*session_, scene_->objects, Options(scene_->labels));
+  const testing::Rates correct = testing::ComputeRates(good);
+  std::printf("correct labels: %lld checked, accepted %.3f, success %.3f, median %.2f mm %.2f deg, %.1f s\n",
+              static_cast<long long>(correct.checked), correct.accepted, correct.success,
+              good.summary.position_error_mm.median, good.summary.rotation_angle_error_deg.median, good.summary.seconds);
+  for (const RecordCheck& r : good.records)
+    if (r.check.verdict != Verdict::kAccept && !IsBadInput(r.check.reason_code))
+      std::printf("  not accepted: frame %lld %s: %s\n", static_cast<long long>(r.index), r.name.c_str(),
+                  r.check.reason.c_str());
+  EXPECT_GT(correct.checked, 50);
+  EXPECT_GE(correct.accepted, 0.9);
+  EXPECT_GE(correct.success, 0.98);
+  EXPECT_LT(good.summary.position_error_mm.median, 3.0);
+  EXPECT_LT(good.summary.rotation_angle_error_deg.median, 1.5);
+  // The frame without depth: every record of it says so.
+  for (const RecordCheck& r : good.records)
+    if (r.index == kNoDepthFrame) {
+      EXPECT_EQ(r.check.reason_code, VerdictReason::kNoDepth) << r.check.reason;
+    }
+
+  for (const auto& [name, perturbation] : {std::pair{"1cm", testing::MountError(0.01, 0.0, 3)},
+                                           std::pair{"5deg", testing::MountError(0.0, 5.0, 4)}}) {
+    const fs::path labels = *dir_ / (std::string("L_") + name);
+    testing::WritePerturbedLabels(scene_->labels, labels, perturbation);
+    const testing::Rates wrong = testing::ComputeRates(CheckSession(*session_, scene_->objects, Options(labels)));
+    std::printf("%s mount error: %lld checked, flagged %.3f\n", name, static_cast<long long>(wrong.checked), wrong.flagged);
+    EXPECT_GE(wrong.flagged, 0.95) << name;
+  }
+}
+
+/// User masks: the label run's own instance PNGs with object ids, except for bad frames.
+TEST_F(SessionCheckTest, UserMasksGiveSegmentationScoresAndBadInputGivesReasons) {
+  const fs::path masks = *dir_ / "masks";
+  fs::create_directories(masks);
+  std::map<int64_t, std::map<int, int>> object_of_instance;
+  for (const RecordCheck& r : ReadLabelRecords(scene_->labels).records) object_of_instance[r.index][r.instance] = r.object;
+  for (const auto& [index, objects] : object_of_instance) {
+    char stem[16];
+    std::snprintf(stem, sizeof stem, "%06lld", static_cast<long long>(index));
+    cv::Mat instance = cv::imread((scene_->labels / "bop" / "instance" / (std::string(stem) + ".png")).string(), cv::IMREAD_UNCHANGED);
+    cv::Mat mask(instance.rows, instance.cols, CV_16UC1, cv::Scalar(0));
+    for (int v = 0; v < instance.rows; ++v)
+      for (int u = 0; u < instance.cols; ++u)
+        if (auto it = objects.find(instance.at<uint16_t>(v, u)); it != objects.end()) mask.at<uint16_t>(v, u) = it->second;
+    if (index == 1) mask = cv::Mat(instance.rows, instance.cols, CV_16UC1, cv::Scalar(0));  // empty
+    if (index == 2) mask = cv::Mat(240, 320, CV_16UC1, cv::Scalar(1));                       // wrong size
+    if (index == 3) {                                                                          // a few pixels only
+      cv::Mat few(instance.rows, instance.cols, CV_16UC1, cv::Scalar(0));
+      for (const auto& [inst, object] : objects) {
+        const cv::Mat is = mask == object;
+        std::vector<cv::Point> pixels;
+        cv::findNonZero(is, pixels);
+        for (size_t k = 0; k < std::min<size_t>(pixels.size(), 10); ++k) few.at<uint16_t>(pixels[k]) = object;
+      }
+      mask = few;
+    }
+    if (index == 5) continue;  // no mask file
+    cv::imwrite((masks / (std::string(stem) + ".png")).string(), mask);
+  }
+  auto options = Options(scene_->labels);
+  options.masks_dir = masks;
+  const fs::path out = *dir_ / "V";
+  const SessionValidation v = ValidateSession(*session_, scene_->objects, options, out);
+  std::map<int64_t, std::set<std::string>> reasons;
+  for (const RecordCheck& r : v.records) {
+    reasons[r.index].insert(std::string(ToString(r.check.reason_code)));
+    EXPECT_FALSE(r.check.reason.empty());
+  }
+  EXPECT_EQ(reasons[1], std::set<std::string>{"empty_mask"});
+  EXPECT_EQ(reasons[2], std::set<std::string>{"mask_size_mismatch"});
+  EXPECT_EQ(reasons[3], std::set<std::string>{"too_few_points"});
+  EXPECT_EQ(reasons[kNoDepthFrame], std::set<std::string>{"no_depth"});
+  EXPECT_EQ(reasons[5], std::set<std::string>{"unreadable_input"});
+  ASSERT_TRUE(v.summary.has_segmentation);
+  EXPECT_NEAR(v.summary.iou.median, 1.0, 1e-9);  // the unaltered frames are the label masks themselves
+  EXPECT_LT(v.summary.iou.p95 - v.summary.iou.median, 1e-9);
+  // The outputs: complete, with the summary fields the demo reads.
+  std::ifstream summary_file(out / "validation.json");
+  const auto summary = nlohmann::json::parse(summary_file);
+  EXPECT_TRUE(summary["complete"].get<bool>());
+  EXPECT_TRUE(summary.contains("segicp_success_rate"));
+  EXPECT_EQ(summary["verdicts"]["accept"].get<int64_t>() + summary["verdicts"]["suspect"].get<int64_t>() +
+                summary["verdicts"]["reject"].get<int64_t>(),
+            static_cast<int64_t>(v.records.size()));
+  std::ifstream html(out / "report.html");
+  const std::string text((std::istreambuf_iterator<char>(html)), {});
+  EXPECT_NE(text.find("<svg"), std::string::npos);
+  EXPECT_NE(text.find("overlay/"), std::string::npos);
+  EXPECT_FALSE(fs::exists(out.string() + ".partial"));
+  // A folder that is not a validation output is never overwritten.
+  EXPECT_THROW(ValidateSession(*session_, scene_->objects, options, scene_->labels), InputError);
+}
+
+}  // namespace
+}  // namespace mocap
