@@ -74,6 +74,18 @@ TEST_F(SessionCheckTest, AcceptsCorrectLabelsAndFlagsMountErrors) {
   }
 }
 
+TEST_F(SessionCheckTest, RendererCropsGiveTheSameVerdicts) {
+  auto options = Options(scene_->labels);
+  const SessionValidation surface = CheckSession(*session_, scene_->objects, options);
+  options.crops = CropBackend::kRenderer;
+  const SessionValidation rendered = CheckSession(*session_, scene_->objects, options);
+  const testing::Rates a = testing::ComputeRates(surface), b = testing::ComputeRates(rendered);
+  std::printf("surface crops: accepted %.3f in %.1f s; renderer crops: accepted %.3f in %.1f s\n", a.accepted,
+              surface.summary.seconds, b.accepted, rendered.summary.seconds);
+  EXPECT_GE(b.accepted, 0.9);
+  EXPECT_NEAR(a.accepted, b.accepted, 0.06);
+}
+
 /// User masks: the label run's own instance PNGs with object ids, except for bad frames.
 TEST_F(SessionCheckTest, UserMasksGiveSegmentationScoresAndBadInputGivesReasons) {
   const fs::path masks = *dir_ / "masks";
