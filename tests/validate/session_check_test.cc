@@ -86,6 +86,29 @@ TEST_F(SessionCheckTest, RendererCropsGiveTheSameVerdicts) {
   EXPECT_NEAR(a.accepted, b.accepted, 0.06);
 }
 
+TEST_F(SessionCheckTest, SequenceModeRunsOneTrackerPerInstance) {
+  auto options = Options(scene_->labels);
+  options.track = true;
+  const SessionValidation v = CheckSession(*session_, scene_->objects, options);
+  const testing::Rates rates = testing::ComputeRates(v);
+  std::printf("sequence mode: %lld checked, accepted %.3f, success %.3f, %.1f s\n",
+              static_cast<long long>(rates.checked), rates.accepted, rates.success, v.summary.seconds);
+  EXPECT_GT(rates.checked, 50);
+  for (const RecordCheck& r : v.records) {
+    EXPECT_FALSE(r.mode.empty());
+    if (r.index == kNoDepthFrame) {
+      EXPECT_EQ(r.mode, "skipped");
+    }
+  }
+  // No quality bound here: the 10 frames are far apart in time (BOP keeps every few images), so each
+  // tracker re-acquires from the view sphere, unseeded and without the frame's occlusion filter
+  // (docs/validation.md "Session check"). Sequence quality needs a continuous session.
+  for (const RecordCheck& r : v.records)
+    if (!IsBadInput(r.check.reason_code)) {
+      EXPECT_TRUE(r.mode == "acquisition" || r.mode == "tracking") << r.mode;
+    }
+}
+
 /// User masks: the label run's own instance PNGs with object ids, except for bad frames.
 TEST_F(SessionCheckTest, UserMasksGiveSegmentationScoresAndBadInputGivesReasons) {
   const fs::path masks = *dir_ / "masks";
