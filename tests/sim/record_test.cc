@@ -8,6 +8,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "capture/kinect/fakenect_recording.h"
 #include "cli/rig_yaml.h"
 #include "session/reader.h"
 #include "sim/demo/demo_pipeline.h"
@@ -32,10 +33,11 @@ Scenario Piece(double start_s, int frames) {
   return scenario;
 }
 
-RecordResult Record(const Scenario& scenario, const fs::path& out, int threads) {
+RecordResult Record(const Scenario& scenario, const fs::path& out, int threads, bool fakenect = false) {
   RecordOptions options;
   options.out_dir = out;
   options.threads = threads;
+  options.write_fakenect = fakenect;
   options.context.platform = EglPlatform::kSurfaceless;
   return RecordSimulation(scenario, DefaultObjectLibrary(), {}, options);
 }
@@ -49,7 +51,7 @@ std::string ReadFile(const fs::path& path) {
 
 TEST(SimRecord, WritesASessionWithTruthAndTheCalibrationFilesReproducibly) {
   const Scenario scenario = Piece(3.0, 4);
-  const RecordResult a = Record(scenario, TempDir("rec_a"), 2);
+  const RecordResult a = Record(scenario, TempDir("rec_a"), 2, true);
   const RecordResult b = Record(scenario, TempDir("rec_b"), 1);
   const SessionReader session = SessionReader::Open(a.session_dir);
   EXPECT_TRUE(session.complete());
@@ -64,6 +66,15 @@ TEST(SimRecord, WritesASessionWithTruthAndTheCalibrationFilesReproducibly) {
     EXPECT_EQ(ReadFile(session.ColorPath(kSimCameraName, i)), ReadFile(SessionReader::Open(b.session_dir).ColorPath(kSimCameraName, i)));
     EXPECT_EQ(ReadFile(session.DepthPath(kSimCameraName, i)), ReadFile(SessionReader::Open(b.session_dir).DepthPath(kSimCameraName, i)));
   }
+  // The fakenect recording holds the same frames, in order, at the session's host times.
+  const std::vector<capture::FakenectEntry> entries = capture::ReadFakenectIndex(a.fakenect_dir);
+  ASSERT_EQ(entries.size(), 8u);
+  EXPECT_EQ(entries[2].type, 'd');
+  EXPECT_NEAR(entries[2].host_time_s, a.truth.frames[1].depth_time_ns * 1e-9, 1e-6);
+  const cv::Mat raw = capture::ReadFakenectDepthRaw(a.fakenect_dir / entries[2].file);
+  const DepthImage depth = session.LoadDepth(kSimCameraName, 1);
+  ASSERT_EQ(raw.cols, depth.width);
+  EXPECT_EQ(raw.at<uint16_t>(240, 320) == kKinect1NoDisparity, depth.at(320, 240) == 0.0f);
   // The rig file carries the given calibration the labeller is to use.
   const Rig rig = cli::LoadRigYaml(a.rig_file);
   ASSERT_EQ(rig.cameras.size(), 1u);

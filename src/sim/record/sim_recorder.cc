@@ -125,7 +125,7 @@ void WriteFrame(const SimFrame& frame, const FrameTruth& truth, FrameWriters& ou
   const cv::Mat bgr = ToBgr(frame.color), depth = ToMat(frame.depth_m);
   CameraFrameRecord record;
   record.frame = frame.index;
-  record.device_ticks = truth.depth_time_ns * 60 / 1000;  // the Kinect's 60 MHz counter
+  record.device_ticks = (truth.depth_time_ns * 60 + 500) / 1000;  // the Kinect's 60 MHz counter
   record.stamp_ns = truth.depth_time_ns;
   out.session.WriteCameraFrame(kSimCameraName, record, bgr, depth);
   if (out.fakenect) out.fakenect->AddFrame(bgr, depth, static_cast<uint64_t>(record.device_ticks), truth.depth_time_ns * 1e-9);
