@@ -37,7 +37,7 @@ cv::Mat Overlay(const cv::Mat& bgr, const cv::Mat& ids, double alpha) {
 
 void ContactSheetOptions::check() const {
   if (columns < 1 || rows < 1 || columns * rows > 64) throw InputError("contact sheet", "columns x rows must be 1..64");
-  if (!(scale > 0 && scale <= 1)) throw InputError("contact sheet", "scale must be in (0, 1]");
+  if (cell_width_px < 16 || cell_width_px > 4096) throw InputError("contact sheet", "cell_width_px must be 16..4096");
   if (!(alpha >= 0 && alpha <= 1)) throw InputError("contact sheet", "alpha must be in [0, 1]");
 }
 
@@ -58,9 +58,11 @@ void WriteContactSheet(const SessionReader& session, const std::string& camera, 
     if (bgr.empty() || ids.empty() || ids.size() != bgr.size() || ids.type() != CV_16UC1)
       throw InputError(ids_path.string(), "missing colour frame or label image for the contact sheet");
     cv::Mat cell;
-    cv::resize(Overlay(bgr, ids, options.alpha), cell, cv::Size(), options.scale, options.scale, cv::INTER_AREA);
+    const double scale = double(options.cell_width_px) / bgr.cols;
+    cv::resize(Overlay(bgr, ids, options.alpha), cell, cv::Size(), scale, scale, cv::INTER_AREA);
     cv::putText(cell, "frame " + std::to_string(index), {6, 18}, cv::FONT_HERSHEY_SIMPLEX, 0.5, {255, 255, 255}, 1, cv::LINE_AA);
-    if (sheet.empty()) sheet = cv::Mat(cell.rows * options.rows, cell.cols * options.columns, CV_8UC3, cv::Scalar(0, 0, 0));
+    const int rows = (cells + options.columns - 1) / options.columns;
+    if (sheet.empty()) sheet = cv::Mat(cell.rows * rows, cell.cols * options.columns, CV_8UC3, cv::Scalar(0, 0, 0));
     cell.copyTo(sheet(cv::Rect((c % options.columns) * cell.cols, (c / options.columns) * cell.rows, cell.cols, cell.rows)));
   }
   if (!cv::imwrite(out_png.string(), sheet)) throw InputError(out_png.string(), "could not write the contact sheet");

@@ -13,7 +13,7 @@ namespace mocap::sim {
 
 struct ContactSheetOptions {
   int columns = 4, rows = 3;  ///< frames are picked evenly over the session
-  double scale = 0.5;         ///< of each frame
+  int cell_width_px = 320;    ///< each frame is scaled to this width (aspect kept)
   double alpha = 0.45;        ///< opacity of the label colours
   void check() const;         ///< throws InputError
 };

@@ -34,9 +34,12 @@ void LabelStage(DemoContext& c) {
 /// Scores a label run made with `calibration`; the label's visible masks use the measured depth.
 LabelScores Score(const RecordResult& record, const ObjectLibrary& library, const RigCalibration& calibration,
                   const fs::path& labels_dir, const DemoOptions& options) {
+  const SessionReader session = SessionReader::Open(record.session_dir);
+  // The measured-depth visibility needs depth registered to the colour image (Kinect v1).
+  if (!session.manifest().FindCamera(record.camera_name)->depth_registered_to_color)
+    return ScoreLabels(labels_dir, record.truth_dir);
   const LabelInputs inputs = MakeLabelInputs(record, library, calibration);
   VisibleMaskRenderer masks(inputs.objects, calibration.color_camera, options.context);
-  const SessionReader session = SessionReader::Open(record.session_dir);
   return ScoreLabels(labels_dir, record.truth_dir, &session, &masks);
 }
 

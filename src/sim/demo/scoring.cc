@@ -21,7 +21,7 @@ namespace fs = std::filesystem;
 
 struct TrueObject {
   int id = 0;
-  Rigid3d T_camera_mesh;
+  Rigid3d T_camera_mesh;  ///< colour optical frame at the colour exposure: what a label describes
 };
 using TruthPoses = std::map<int64_t, std::map<std::string, TrueObject>>;  // frame index -> object name
 
@@ -47,7 +47,7 @@ TruthPoses ReadTruthPoses(const fs::path& truth_dir) {
   for (const nlohmann::json& frame : ReadJsonLines(file))
     for (const nlohmann::json& o : frame.at("objects"))
       poses[frame.at("index").get<int64_t>()][o.at("name").get<std::string>()] =
-          TrueObject{o.at("id").get<int>(), RigidFromJson(o.at("T_camera_mesh"), file.string())};
+          TrueObject{o.at("id").get<int>(), RigidFromJson(o.at("T_color_mesh"), file.string())};
   return poses;
 }
 

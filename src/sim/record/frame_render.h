@@ -33,9 +33,9 @@ SceneMeshes LoadSceneMeshes(const Scenario& scenario, const ObjectLibrary& libra
 struct SimFrame {
   int index = 0;
   ColorImage color;              ///< what the sensor delivers (noise applied)
-  DepthImage depth_m;            ///< what the sensor delivers, registered to colour; 0 = no depth
-  Image<uint16_t> raw_disparity; ///< Kinect v1 11-bit disparity (2047 = none)
-  LabelImage true_instances;     ///< truth: object id (library id) or occluder id per pixel, 0 = nothing
+  DepthImage depth_m;            ///< what the sensor delivers (Kinect v1: registered to colour; v2: IR camera); 0 = none
+  Image<uint16_t> raw_disparity; ///< Kinect v1 11-bit disparity (2047 = none); empty for Kinect v2
+  LabelImage true_instances;     ///< truth in the colour image: object (library) id or occluder id, 0 = nothing
   int invalid_depth_pixels = 0;  ///< dropped by the sensor model (shadow, edges, range)
 };
 
@@ -45,7 +45,7 @@ class FrameRenderer {
   FrameRenderer(const Scenario& scenario, const ObjectLibrary& library, const SceneMeshes& meshes,
                 const RenderContextOptions& context);
   ~FrameRenderer();
-  /// Renders and sensor-models frame `truth` (Kinect v1). Reproducible: noise is seeded by the
+  /// Renders and sensor-models frame `truth` (Kinect v1 or v2). Reproducible: noise is seeded by the
   /// scenario's seed and the frame index only.
   SimFrame Render(const FrameTruth& truth, const RigCalibration& true_calibration);
 
@@ -53,9 +53,10 @@ class FrameRenderer {
   const Scenario& scenario_;
   const ObjectLibrary& library_;
   std::unique_ptr<RenderContext> context_;
-  std::unique_ptr<Renderer> labels_;
+  std::unique_ptr<Renderer> labels_, color_labels_;
   std::unique_ptr<ColorRenderer> colors_;
-  std::vector<MeshHandle> label_handles_, color_handles_;  // objects then occluders
+  std::vector<MeshHandle> label_handles_, color_label_handles_, color_handles_;  // objects then occluders
+  std::vector<ReflectiveSurface> reflective_;
 };
 
 }  // namespace mocap::sim

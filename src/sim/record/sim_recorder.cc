@@ -25,12 +25,12 @@ SessionManifest SimManifest(const Scenario& scenario, const ObjectLibrary& libra
   SessionManifest manifest;
   manifest.source = "sim " + scenario.options.name;
   CameraStreamInfo camera;
-  camera.name = kSimCameraName;
-  camera.model = "kinect1";
+  camera.name = SimCameraName(scenario.options.sensor);
+  camera.model = std::string(ToString(scenario.options.sensor));
   camera.serial = "sim";
   camera.color_camera = given.color_camera;
   camera.depth_camera = given.depth_camera;
-  camera.depth_registered_to_color = true;
+  camera.depth_registered_to_color = scenario.options.sensor == SensorKind::kKinect1;
   camera.T_color_depth = given.T_color_depth;
   camera.depth_unit_m = 0.001;
   camera.camera_body = scenario.camera_body.name;
@@ -117,6 +117,7 @@ class OrderedSink {
 
 struct FrameWriters {
   SessionWriter& session;
+  std::string camera;
   capture::FakenectRecordingWriter* fakenect = nullptr;
   fs::path truth_instance_dir;
 };
@@ -126,8 +127,10 @@ void WriteFrame(const SimFrame& frame, const FrameTruth& truth, FrameWriters& ou
   CameraFrameRecord record;
   record.frame = frame.index;
   record.device_ticks = (truth.depth_time_ns * 60 + 500) / 1000;  // the Kinect's 60 MHz counter
-  record.stamp_ns = truth.depth_time_ns;
-  out.session.WriteCameraFrame(kSimCameraName, record, bgr, depth);
+  // The labelled image is the colour image: its exposure is the frame's time (Kinect v2 depth was taken
+  // colour_delay_ms earlier; Kinect v1 at the same instant).
+  record.stamp_ns = truth.color_time_ns;
+  out.session.WriteCameraFrame(out.camera, record, bgr, depth);
   if (out.fakenect) out.fakenect->AddFrame(bgr, depth, static_cast<uint64_t>(record.device_ticks), truth.depth_time_ns * 1e-9);
 }
 
@@ -186,6 +189,8 @@ void WriteTruth(const SimulationTruth& truth, const fs::path& dir) {
 
 }  // namespace
 
+std::string SimCameraName(SensorKind sensor) { return std::string(ToString(sensor)); }
+
 void RecordOptions::check() const {
   if (out_dir.empty()) throw InputError("sim record", "no output folder given (--out)");
   if (threads < 0) throw InputError("sim record", "threads must be >= 0");
@@ -199,10 +204,8 @@ RecordResult RecordSimulation(const Scenario& scenario, const ObjectLibrary& lib
   const auto start = std::chrono::steady_clock::now();
   options.check();
   scenario.check(library, "scenario '" + scenario.options.name + "'");
-  if (scenario.options.sensor != SensorKind::kKinect1)
-    throw InputError("scenario '" + scenario.options.name + "'",
-                     "sim record writes Kinect v1 sessions only (sensor: kinect1); the Kinect v2 model is available "
-                     "as a library (sim/kinect2_model.h) but its unregistered depth stream is not recorded yet");
+  if (options.write_fakenect && scenario.options.sensor != SensorKind::kKinect1)
+    throw InputError("scenario '" + scenario.options.name + "'", "a fakenect recording is of a Kinect v1 (sensor: kinect1)");
   RecordResult result;
   const SceneMotion motion(scenario);
   result.truth = ComputeTruth(motion, library);
@@ -227,13 +230,13 @@ RecordResult RecordSimulation(const Scenario& scenario, const ObjectLibrary& lib
     fakenect = std::make_unique<capture::FakenectRecordingWriter>(result.fakenect_dir, camera);
   }
   result.tracker_samples = WriteTrackerStreams(*writer, streams);
-  FrameWriters out{*writer, fakenect.get(), result.truth_dir / "instance"};
+  FrameWriters out{*writer, SimCameraName(scenario.options.sensor), fakenect.get(), result.truth_dir / "instance"};
   const int64_t invalid = RenderAndWrite(scenario, library, meshes, result.truth, options, out);
   if (fakenect) fakenect->Close();
   writer->Close();
   WriteTruth(result.truth, result.truth_dir);
   result.rig_file = S / "rig.yaml";
-  WriteTextFile(result.rig_file.string(), EncodeRigYaml("sim-" + scenario.options.name, kSimCameraName,
+  WriteTextFile(result.rig_file.string(), EncodeRigYaml("sim-" + scenario.options.name, SimCameraName(scenario.options.sensor),
                                                         scenario.camera_body.name, given));
   result.objects_file = S / "objects.yaml";
   WriteTextFile(result.objects_file.string(), EncodeObjectsYaml(LibraryForLabelling(library, given, meshes_dir, S)));
@@ -241,7 +244,7 @@ RecordResult RecordSimulation(const Scenario& scenario, const ObjectLibrary& lib
   const double pixels = double(result.frames) * given.color_camera.width * given.color_camera.height;
   result.invalid_depth_fraction = pixels > 0 ? invalid / pixels : 0;
   for (const ScenarioObject& object : scenario.objects) result.body_of_object.push_back(library.Find(object.name)->body.name);
-  result.camera_name = kSimCameraName;
+  result.camera_name = SimCameraName(scenario.options.sensor);
   result.tracker_name = kSimTrackerName;
   result.camera_body = scenario.camera_body.name;
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

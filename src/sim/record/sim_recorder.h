@@ -2,14 +2,15 @@
 // `mocaplabel sim record`: a simulated recording written as a real session (docs/session-format.md)
 // with the session writer, plus what scoring and labelling need next to it (docs/simulation.md
 // "Recording"):
-//   S/manifest.json, S/cameras/..., S/trackers/...  the session (Kinect v1 colour + registered depth,
-//                                                   the tracker's bodies), calibration as *given*
+//   S/manifest.json, S/cameras/..., S/trackers/...  the session (Kinect v1 colour + registered depth, or
+//                                                   Kinect v2 colour + unregistered ToF depth; the
+//                                                   tracker's bodies), calibration as *given*
 //   S/rig.yaml, S/objects.yaml, S/meshes/           what `mocaplabel label S --rig S/rig.yaml` needs;
 //                                                   the scenario's calibration errors are in these
 //   S/truth/calibration.json                        true and given calibration, injected errors
-//   S/truth/poses.jsonl                             per frame: true T_camera_mesh of every object
-//   S/truth/instance/<frame>.png                    uint16: library object id (occluders 65000 + k)
-//   S/fakenect/ (optional)                          the Kinect v1 frames as a libfreenect fakenect recording
+//   S/truth/poses.jsonl                             per frame: true poses of every object (colour and depth frame)
+//   S/truth/instance/<frame>.png                    uint16, colour image: library object id (occluders 65000 + k)
+//   S/fakenect/ (optional, Kinect v1)               the frames as a libfreenect fakenect recording
 // Frames are rendered in parallel (one EGL context per worker) and written in frame order; the result
 // is the same for any number of threads.
 #include <cstdint>
@@ -27,7 +28,7 @@ namespace mocap::sim {
 struct RecordOptions {
   std::filesystem::path out_dir;  ///< the session folder; must not exist or be empty
   int threads = 0;                ///< render workers; 0 = one per core
-  bool write_fakenect = false;    ///< also write S/fakenect/
+  bool write_fakenect = false;    ///< also write S/fakenect/ (Kinect v1 scenarios only)
   RenderContextOptions context;
   void check() const;  ///< throws InputError
 };
@@ -50,8 +51,8 @@ struct RecordResult {
 RecordResult RecordSimulation(const Scenario& scenario, const ObjectLibrary& library,
                               const std::filesystem::path& library_dir, const RecordOptions& options);
 
-/// The camera stream name of simulated sessions.
-inline constexpr const char* kSimCameraName = "kinect1";
+/// The camera stream name of simulated sessions: "kinect1" or "kinect2".
+std::string SimCameraName(SensorKind sensor);
 inline constexpr const char* kSimTrackerName = "ndi";
 
 }  // namespace mocap::sim
