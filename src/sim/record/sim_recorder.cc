@@ -187,6 +187,19 @@ void WriteTruth(const SimulationTruth& truth, const fs::path& dir) {
   if (!poses) throw InputError((dir / "poses.jsonl").string(), "could not write");
 }
 
+/// truth/, rig.yaml and objects.yaml of `result` (which has its session and truth folders set).
+void WriteTruthAndCalibration(const Scenario& scenario, const ObjectLibrary& library, const fs::path& meshes_dir,
+                              RecordResult& result) {
+  const fs::path& S = result.session_dir;
+  const RigCalibration& given = result.truth.given_calibration;
+  WriteTruth(result.truth, result.truth_dir);
+  result.rig_file = S / "rig.yaml";
+  WriteTextFile(result.rig_file.string(), EncodeRigYaml("sim-" + scenario.options.name, SimCameraName(scenario.options.sensor),
+                                                        scenario.camera_body.name, given));
+  result.objects_file = S / "objects.yaml";
+  WriteTextFile(result.objects_file.string(), EncodeObjectsYaml(LibraryForLabelling(library, given, meshes_dir, S)));
+}
+
 }  // namespace
 
 std::string SimCameraName(SensorKind sensor) { return std::string(ToString(sensor)); }
@@ -229,19 +242,15 @@ RecordResult RecordSimulation(const Scenario& scenario, const ObjectLibrary& lib
     capture::RecordingCamera camera{given.color_camera, true};
     fakenect = std::make_unique<capture::FakenectRecordingWriter>(result.fakenect_dir, camera);
   }
+  // Truth and calibration files first: the session is marked complete (Close) only after everything.
+  WriteTruthAndCalibration(scenario, library, meshes_dir, result);
   result.tracker_samples = WriteTrackerStreams(*writer, streams);
   FrameWriters out{*writer, SimCameraName(scenario.options.sensor), fakenect.get(), result.truth_dir / "instance"};
   const int64_t invalid = RenderAndWrite(scenario, library, meshes, result.truth, options, out);
   if (fakenect) fakenect->Close();
   writer->Close();
-  WriteTruth(result.truth, result.truth_dir);
-  result.rig_file = S / "rig.yaml";
-  WriteTextFile(result.rig_file.string(), EncodeRigYaml("sim-" + scenario.options.name, SimCameraName(scenario.options.sensor),
-                                                        scenario.camera_body.name, given));
-  result.objects_file = S / "objects.yaml";
-  WriteTextFile(result.objects_file.string(), EncodeObjectsYaml(LibraryForLabelling(library, given, meshes_dir, S)));
   result.frames = static_cast<int>(result.truth.frames.size());
-  const double pixels = double(result.frames) * given.color_camera.width * given.color_camera.height;
+  const double pixels = double(result.frames) * given.depth_camera.width * given.depth_camera.height;
   result.invalid_depth_fraction = pixels > 0 ? invalid / pixels : 0;
   for (const ScenarioObject& object : scenario.objects) result.body_of_object.push_back(library.Find(object.name)->body.name);
   result.camera_name = SimCameraName(scenario.options.sensor);
