@@ -6,6 +6,7 @@
 #include "session/reader.h"
 #include "sim/demo/contact_sheet.h"
 #include "sim/demo/visible_masks.h"
+#include "sim/record/truth_io.h"
 
 namespace mocap::sim {
 namespace {
@@ -60,6 +61,8 @@ void PrepareOutput(const fs::path& out) {
     fs::remove_all(out);
   }
   fs::create_directories(out);
+  // Marks the folder as the demo's at once, so a run that fails half-way can simply be repeated.
+  WriteJsonFile(out / "demo.json", {{"complete", false}});
 }
 
 }  // namespace
@@ -97,7 +100,8 @@ nlohmann::json DemoJson(const DemoResult& r) {
   nlohmann::json seconds = nlohmann::json::object();
   for (const auto& [stage, s] : r.seconds_per_stage) seconds[stage] = s;
   const int expected = c.scenario.options.frame_count;
-  return {{"scenario", c.scenario.options.name},
+  return {{"complete", true},
+          {"scenario", c.scenario.options.name},
           {"frames", c.scores.frames},
           {"dropped_frames", expected - c.scores.frames},
           {"mask_iou_mean", c.scores.mask_iou_mean},
