@@ -57,8 +57,8 @@ class ColorRenderer {
 
   /// Uploads geometry, vertex colours, uvs and the texture once. Precondition: mesh not empty.
   MeshHandle Upload(const Mesh& mesh);
-  /// Renders `items` into `camera` (distortion included), 8-bit sRGB-free linear colours (the shading
-  /// is applied to the stored 8-bit values directly). Throws InputError for an invalid camera.
+  /// Renders `items` into `camera` (distortion included) as 8-bit RGB; the shading scales the meshes'
+  /// stored colour values directly (no gamma handling). Throws InputError for an invalid camera.
   RgbImage Render(const PinholeCamera& camera, std::span<const ColorRenderItem> items);
 
  private:
