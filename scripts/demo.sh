@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# `make demo`: runs the parts of the pipeline that exist today end to end, on real recordings from
-# ../shared/realdata and on the simulated rig's scenario. The full simulated-rig demo (`mocaplabel demo`:
-# simulate, record through the capture daemon, label, validate, score against the truth) is not built yet.
+# `make demo`: the whole tool on the simulated rig (`mocaplabel demo`: simulate the default scenario,
+# label it, score the labels against the truth, contact sheet; docs/demo.md), then the parts of the
+# pipeline that run on real recordings from ../shared/realdata. Set DEMO_FRAMES to simulate fewer frames.
 set -euo pipefail
 bin=${1:?usage: demo.sh MOCAPLABEL OUT_DIR}
 out=${2:?usage: demo.sh MOCAPLABEL OUT_DIR}
@@ -14,19 +14,20 @@ echo "== 1. headless rendering check (mocaplabel doctor)"
 "$bin" doctor
 
 echo
-echo "== 2. a real RGB-D recording with motion-capture ground truth (TUM fr1/desk): import, then info"
+echo "== 2. the simulated rig end to end: simulate, label, score against the truth (mocaplabel demo)"
+"$bin" demo --out "$out/sim" --frames "${DEMO_FRAMES:-0}"
+
+echo
+echo "== 3. a real RGB-D recording with motion-capture ground truth (TUM fr1/desk): import, then info"
 "$bin" import tum "$realdata/tum_fr1_desk_9frames" --out "$out/tum_session" >/dev/null
 "$bin" info "$out/tum_session"
 
 echo
-echo "== 3. real scanned meshes and poses (BOP LM-O scene 2): import, then label with overlays"
+echo "== 4. real scanned meshes and poses (BOP LM-O scene 2): import, then label with overlays"
 "$bin" import bop "$realdata/bop_lmo_scene2/test/000002" --models "$realdata/bop_lmo_scene2/models" \
   --out "$out/bop_session" >/dev/null
 "$bin" label "$out/bop_session" --out "$out/bop_labels" --overlay
 
 echo
-echo "== 4. the simulated rig's default scenario: objects, motions and tracker streams"
-"$bin" sim check --objects "$root/meshes/objects.yaml"
-
-echo
-echo "outputs in $out: tum_session/, bop_session/, bop_labels/ (labels.jsonl, masks, overlays in bop_labels/bop/overlay/)"
+echo "outputs in $out: sim/ (demo.json, contact_sheet.png, session/ with truth/, labels/), tum_session/,"
+echo "bop_session/, bop_labels/ (labels.jsonl, masks, overlays in bop_labels/bop/overlay/)"

@@ -1,12 +1,15 @@
-// mocaplabel sim meshes|check: the simulated rig's object library and scenarios (docs/simulation.md).
+// mocaplabel sim meshes|check|record: the simulated rig's object library, scenarios and recordings
+// (docs/simulation.md).
 #include <CLI/CLI.hpp>
 #include <cstdio>
+#include <filesystem>
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.h"
 #include "cli/scenario_yaml.h"
 #include "core/check.h"
 #include "sim/mesh_generator.h"
+#include "sim/record/sim_recorder.h"
 #include "sim/truth.h"
 
 namespace mocap::cli {
@@ -55,6 +58,41 @@ int RunSimCheck(const std::string& scenario_path, const std::string& objects_pat
   return 0;
 }
 
+struct RecordFlags {
+  std::string scenario, objects, out, platform = "auto";
+  int threads = 0;
+  bool fakenect = false;
+};
+
+int RunSimRecord(const RecordFlags& flags, bool json) {
+  const sim::Scenario scenario = flags.scenario.empty() ? sim::DefaultScenario() : LoadScenarioYaml(flags.scenario);
+  // Without --objects the built-in library's meshes are generated into the session (an empty folder).
+  const sim::ObjectLibrary library = flags.objects.empty() ? sim::DefaultObjectLibrary() : LoadSimObjectsYaml(flags.objects);
+  const std::filesystem::path library_dir =
+      flags.objects.empty() ? std::filesystem::path() : std::filesystem::absolute(flags.objects).parent_path();
+  sim::RecordOptions options;
+  options.out_dir = flags.out;
+  options.threads = flags.threads;
+  options.write_fakenect = flags.fakenect;
+  options.context.platform = EglPlatformFromString(flags.platform);
+  const sim::RecordResult r = sim::RecordSimulation(scenario, library, library_dir, options);
+  const nlohmann::json summary{{"session", r.session_dir.string()},   {"frames", r.frames},
+                               {"tracker_samples", r.tracker_samples}, {"invalid_depth_fraction", r.invalid_depth_fraction},
+                               {"seconds", r.seconds},                {"rig", r.rig_file.string()},
+                               {"objects", r.objects_file.string()},  {"truth", r.truth_dir.string()},
+                               {"fakenect", r.fakenect_dir.string()}, {"errors_injected", scenario.options.errors.any()}};
+  if (json) {
+    std::printf("%s\n", summary.dump().c_str());
+    return 0;
+  }
+  std::printf("recorded %d frames and %lld tracker samples of '%s' in %.1f s into %s (%.1f %% of pixels without depth)\n",
+              r.frames, static_cast<long long>(r.tracker_samples), scenario.options.name.c_str(), r.seconds,
+              r.session_dir.string().c_str(), 100 * r.invalid_depth_fraction);
+  std::printf("label it with: mocaplabel label %s --rig %s --objects %s\n", r.session_dir.string().c_str(),
+              r.rig_file.string().c_str(), r.objects_file.string().c_str());
+  return 0;
+}
+
 }  // namespace
 
 int RunSim(int argc, char** argv) {
@@ -73,8 +111,18 @@ int RunSim(int argc, char** argv) {
   check->add_option("--objects", objects_path, "objects.yaml (default: the built-in library of meshes/)");
   check->add_flag("--print-yaml", print_yaml, "print the scenario as YAML instead (scenarios/default.yaml is this for the default)");
   check->add_flag("--json", json, "print one JSON document");
+  RecordFlags record_flags;
+  CLI::App* record = app.add_subcommand("record", "simulate a scenario into a session with its truth");
+  record->add_option("--scenario", record_flags.scenario, "scenario YAML (default: the embedded default scenario)");
+  record->add_option("--objects", record_flags.objects, "objects.yaml (default: the built-in library, meshes generated into the session)");
+  record->add_option("--out", record_flags.out, "session folder to create")->required();
+  record->add_option("--threads", record_flags.threads, "render threads, each with its own EGL context (0: one per core)");
+  record->add_option("--platform", record_flags.platform, "EGL platform: auto, surfaceless or device");
+  record->add_flag("--fakenect", record_flags.fakenect, "also write the Kinect v1 frames as a fakenect recording (S/fakenect)");
+  record->add_flag("--json", json, "print one JSON document");
   CLI11_PARSE(app, argc, argv);
   if (meshes->parsed()) return RunSimMeshes(out_dir, json);
+  if (record->parsed()) return RunSimRecord(record_flags, json);
   return RunSimCheck(scenario_path, objects_path, print_yaml, json);
 }
 

@@ -12,6 +12,7 @@ const std::vector<Command>& AllCommands() {
       {"doctor", "check headless rendering (EGL platform, driver, test render)", RunDoctor},
       {"ndi-emulator", "emulate an NDI tracker (Combined API) on loopback", RunNdiEmulator},
       {"sim", "simulated rig: object meshes, scenario checks", RunSim},
+      {"demo", "the whole tool on the simulated rig: simulate, label, score against the truth", RunDemo},
       {"devices", "list attached Kinects, serial adapters and network trackers", RunDevices},
       {"validate", "check every label against the measured depth (SegICP): verdicts and a report", RunValidate},
   };

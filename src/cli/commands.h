@@ -11,5 +11,6 @@ int RunNdiEmulator(int argc, char** argv);
 int RunSim(int argc, char** argv);
 int RunDevices(int argc, char** argv);
 int RunValidate(int argc, char** argv);
+int RunDemo(int argc, char** argv);
 
 }  // namespace mocap::cli

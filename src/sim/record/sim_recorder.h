@@ -1,0 +1,58 @@
+#pragma once
+// `mocaplabel sim record`: a simulated recording written as a real session (docs/session-format.md)
+// with the session writer, plus what scoring and labelling need next to it (docs/simulation.md
+// "Recording"):
+//   S/manifest.json, S/cameras/..., S/trackers/...  the session (Kinect v1 colour + registered depth, or
+//                                                   Kinect v2 colour + unregistered ToF depth; the
+//                                                   tracker's bodies), calibration as *given*
+//   S/rig.yaml, S/objects.yaml, S/meshes/           what `mocaplabel label S --rig S/rig.yaml` needs;
+//                                                   the scenario's calibration errors are in these
+//   S/truth/calibration.json                        true and given calibration, injected errors
+//   S/truth/poses.jsonl                             per frame: true poses of every object (colour and depth frame)
+//   S/truth/instance/<frame>.png                    uint16, colour image: library object id (occluders 65000 + k)
+//   S/fakenect/ (optional, Kinect v1)               the frames as a libfreenect fakenect recording
+// Frames are rendered in parallel (one EGL context per worker) and written in frame order; the result
+// is the same for any number of threads.
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "render/render_context.h"
+#include "sim/object_library.h"
+#include "sim/scenario.h"
+#include "sim/truth.h"
+
+namespace mocap::sim {
+
+struct RecordOptions {
+  std::filesystem::path out_dir;  ///< the session folder; must not exist or be empty
+  int threads = 0;                ///< render workers; 0 = one per core
+  bool write_fakenect = false;    ///< also write S/fakenect/ (Kinect v1 scenarios only)
+  RenderContextOptions context;
+  void check() const;  ///< throws InputError
+};
+
+struct RecordResult {
+  int frames = 0;             ///< camera frames written
+  int64_t tracker_samples = 0;
+  double invalid_depth_fraction = 0;  ///< pixels without depth from the sensor model (shadows, edges, range)
+  double seconds = 0;
+  std::filesystem::path session_dir, rig_file, objects_file, truth_dir, fakenect_dir;
+  std::filesystem::path library_dir;  ///< folder of the mesh files used
+  SimulationTruth truth;
+  std::vector<std::string> body_of_object;  ///< tracker body per scenario object
+  std::string camera_name, tracker_name, camera_body;
+};
+
+/// Simulates and writes `scenario`. `library_dir` holds the library's mesh files (the folder of its
+/// objects.yaml). Precondition: none; throws InputError for an invalid scenario, an unusable output
+/// folder, a missing mesh or a failed write (the session then stays marked incomplete).
+RecordResult RecordSimulation(const Scenario& scenario, const ObjectLibrary& library,
+                              const std::filesystem::path& library_dir, const RecordOptions& options);
+
+/// The camera stream name of simulated sessions: "kinect1" or "kinect2".
+std::string SimCameraName(SensorKind sensor);
+inline constexpr const char* kSimTrackerName = "ndi";
+
+}  // namespace mocap::sim

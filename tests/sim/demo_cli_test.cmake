@@ -1,0 +1,30 @@
+# Runs `mocaplabel demo --frames 24 --json` and checks the JSON it prints: every field the
+# documentation names, plausible values, and the files it lists exist.
+file(REMOVE_RECURSE "${OUT}")
+execute_process(COMMAND "${MOCAPLABEL}" demo --out "${OUT}" --frames 24 --json
+                RESULT_VARIABLE rc OUTPUT_VARIABLE json ERROR_VARIABLE err)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "mocaplabel demo failed (${rc}): ${err}")
+endif()
+foreach(field frames dropped_frames mask_iou_mean mask_iou_p5 pose_err_mm_median pose_err_mm_p95
+              pose_err_deg_median pose_err_deg_p95 flagged_frames seconds_per_stage outputs
+              segicp_success_rate verdicts)
+  string(JSON type ERROR_VARIABLE missing TYPE "${json}" ${field})
+  if(missing)
+    message(FATAL_ERROR "field ${field} missing from: ${json}")
+  endif()
+endforeach()
+string(JSON frames GET "${json}" frames)
+string(JSON iou GET "${json}" mask_iou_mean)
+string(JSON mm GET "${json}" pose_err_mm_median)
+if(NOT frames EQUAL 24)
+  message(FATAL_ERROR "expected 24 frames, got ${frames}")
+endif()
+if(iou LESS 0.9 OR mm GREATER 2.0)
+  message(FATAL_ERROR "implausible scores: mask_iou_mean ${iou}, pose_err_mm_median ${mm}")
+endif()
+string(JSON sheet GET "${json}" outputs contact_sheet)
+if(NOT EXISTS "${sheet}")
+  message(FATAL_ERROR "contact sheet ${sheet} not written")
+endif()
+message(STATUS "demo ok: ${frames} frames, mask_iou_mean ${iou}, pose_err_mm_median ${mm}")

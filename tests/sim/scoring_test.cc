@@ -1,0 +1,87 @@
+// Scoring of a label run against a simulated truth, on hand-made files: pose errors, mask IoU from the
+// instance images, records without a pose, and errors for missing truth.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include "core/check.h"
+#include "session/manifest.h"
+#include "sim/demo/scoring.h"
+
+namespace mocap::sim {
+namespace {
+
+namespace fs = std::filesystem;
+
+/// 64x48 instance image with value `id` over [x0, x1) x [y0, y1).
+void WriteIds(const fs::path& path, int id, int x0, int x1, int y0, int y1) {
+  cv::Mat ids(48, 64, CV_16UC1, cv::Scalar(0));
+  ids(cv::Rect(x0, y0, x1 - x0, y1 - y0)).setTo(id);
+  fs::create_directories(path.parent_path());
+  ASSERT_TRUE(cv::imwrite(path.string(), ids));
+}
+
+class ScoringTest : public testing::Test {
+ protected:
+  void SetUp() override {
+    root_ = fs::path(testing::TempDir()) / "mocap_scoring";
+    fs::remove_all(root_);
+    const Rigid3d truth = Rigid3d::FromRvec({0, 0, 0}, {0.1, 0.0, 1.0});
+    fs::create_directories(root_ / "truth");
+    std::ofstream poses(root_ / "truth" / "poses.jsonl");
+    for (int f = 0; f < 2; ++f)
+      poses << nlohmann::json{{"index", f}, {"objects", {{{"name", "box"}, {"id", 7}, {"T_color_mesh", ToJson(truth)}}}}}.dump() << "\n";
+    poses.close();
+    WriteIds(root_ / "truth" / "instance" / "000000.png", 7, 10, 30, 10, 30);  // 400 px
+    WriteIds(root_ / "truth" / "instance" / "000001.png", 7, 10, 30, 10, 30);
+    WriteIds(root_ / "labels" / "cam" / "instance" / "000000.png", 2, 20, 40, 10, 30);  // overlaps 200 px
+    WriteIds(root_ / "labels" / "cam" / "instance" / "000001.png", 2, 10, 30, 10, 30);
+  }
+  void WriteLabels(const std::vector<nlohmann::json>& records) {
+    std::ofstream labels(root_ / "labels" / "labels.jsonl");
+    for (const auto& r : records) labels << r.dump() << "\n";
+  }
+  static nlohmann::json Record(int index, const std::string& name, std::vector<double> rvec, std::vector<double> t_m) {
+    return {{"camera", "cam"}, {"index", index}, {"name", name}, {"instance", 2}, {"rvec", rvec}, {"t_m", t_m}};
+  }
+  fs::path root_;
+};
+
+TEST_F(ScoringTest, PoseErrorsAndMaskIouAgainstTheTruth) {
+  const double one_deg = M_PI / 180;
+  WriteLabels({Record(0, "box", {0, 0, 0}, {0.103, 0.004, 1.0}),  // 5 mm off, exact rotation
+               Record(1, "box", {0, one_deg, 0}, {0.1, 0.0, 1.0}),  // exact position, 1 degree off
+               {{"camera", "cam"}, {"index", 1}, {"name", "box"}, {"instance", 3}, {"flags", {"missing_body"}}}});
+  const LabelScores s = ScoreLabels(root_ / "labels", root_ / "truth");
+  EXPECT_EQ(s.records, 3);
+  EXPECT_EQ(s.records_without_pose, 1);
+  EXPECT_EQ(s.frames, 2);
+  ASSERT_EQ(s.per_record.size(), 2u);
+  EXPECT_NEAR(s.per_record[0].err_mm, 5.0, 1e-9);
+  EXPECT_NEAR(s.per_record[0].err_deg, 0.0, 1e-9);
+  EXPECT_NEAR(s.per_record[1].err_deg, 1.0, 1e-9);
+  EXPECT_NEAR(s.per_record[0].iou, 200.0 / 600.0, 1e-12);
+  EXPECT_NEAR(s.per_record[1].iou, 1.0, 1e-12);
+  EXPECT_NEAR(s.mask_iou_mean, (1.0 / 3 + 1.0) / 2, 1e-12);
+  EXPECT_NEAR(s.pose_err_mm_median, 2.5, 1e-9);
+}
+
+TEST_F(ScoringTest, RecordWithoutTruthIsAnError) {
+  WriteLabels({Record(0, "funnel", {0, 0, 0}, {0, 0, 1})});
+  EXPECT_THROW(ScoreLabels(root_ / "labels", root_ / "truth"), InputError);
+  fs::remove(root_ / "truth" / "poses.jsonl");
+  EXPECT_THROW(ScoreLabels(root_ / "labels", root_ / "truth"), InputError);
+}
+
+TEST(Scoring, PercentileInterpolatesBetweenOrderStatistics) {
+  EXPECT_EQ(Percentile({}, 50), 0);
+  EXPECT_DOUBLE_EQ(Percentile({3, 1, 2, 4}, 50), 2.5);
+  EXPECT_DOUBLE_EQ(Percentile({3, 1, 2, 4}, 0), 1);
+  EXPECT_DOUBLE_EQ(Percentile({3, 1, 2, 4}, 100), 4);
+}
+
+}  // namespace
+}  // namespace mocap::sim
