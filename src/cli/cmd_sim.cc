@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
+#include "capture/kinect/fakenect_frame_tap.h"
 #include "cli/commands.h"
 #include "cli/scenario_yaml.h"
 #include "core/check.h"
@@ -73,14 +74,16 @@ int RunSimRecord(const RecordFlags& flags, bool json) {
   sim::RecordOptions options;
   options.out_dir = flags.out;
   options.threads = flags.threads;
-  options.write_fakenect = flags.fakenect;
+  std::unique_ptr<capture::FakenectFrameTap> fakenect;
+  if (flags.fakenect) fakenect = std::make_unique<capture::FakenectFrameTap>(std::filesystem::path(flags.out) / "fakenect");
+  options.frame_tap = fakenect.get();
   options.context.platform = EglPlatformFromString(flags.platform);
   const sim::RecordResult r = sim::RecordSimulation(scenario, library, library_dir, options);
   const nlohmann::json summary{{"session", r.session_dir.string()},   {"frames", r.frames},
                                {"tracker_samples", r.tracker_samples}, {"invalid_depth_fraction", r.invalid_depth_fraction},
                                {"seconds", r.seconds},                {"rig", r.rig_file.string()},
                                {"objects", r.objects_file.string()},  {"truth", r.truth_dir.string()},
-                               {"fakenect", r.fakenect_dir.string()}, {"errors_injected", scenario.options.errors.any()}};
+                               {"fakenect", fakenect ? fakenect->dir().string() : std::string()}, {"errors_injected", scenario.options.errors.any()}};
   if (json) {
     std::printf("%s\n", summary.dump().c_str());
     return 0;

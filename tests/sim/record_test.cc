@@ -8,6 +8,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "capture/kinect/fakenect_frame_tap.h"
 #include "capture/kinect/fakenect_recording.h"
 #include "cli/rig_yaml.h"
 #include "session/reader.h"
@@ -33,11 +34,11 @@ Scenario Piece(double start_s, int frames) {
   return scenario;
 }
 
-RecordResult Record(const Scenario& scenario, const fs::path& out, int threads, bool fakenect = false) {
+RecordResult Record(const Scenario& scenario, const fs::path& out, int threads, FrameTap* tap = nullptr) {
   RecordOptions options;
   options.out_dir = out;
   options.threads = threads;
-  options.write_fakenect = fakenect;
+  options.frame_tap = tap;
   options.context.platform = EglPlatform::kSurfaceless;
   return RecordSimulation(scenario, DefaultObjectLibrary(), {}, options);
 }
@@ -51,7 +52,9 @@ std::string ReadFile(const fs::path& path) {
 
 TEST(SimRecord, WritesASessionWithTruthAndTheCalibrationFilesReproducibly) {
   const Scenario scenario = Piece(3.0, 4);
-  const RecordResult a = Record(scenario, TempDir("rec_a"), 2, true);
+  const fs::path dir_a = TempDir("rec_a");
+  capture::FakenectFrameTap fakenect(dir_a / "fakenect");
+  const RecordResult a = Record(scenario, dir_a, 2, &fakenect);
   const RecordResult b = Record(scenario, TempDir("rec_b"), 1);
   const SessionReader session = SessionReader::Open(a.session_dir);
   EXPECT_TRUE(session.complete());
@@ -67,11 +70,11 @@ TEST(SimRecord, WritesASessionWithTruthAndTheCalibrationFilesReproducibly) {
     EXPECT_EQ(ReadFile(session.DepthPath(a.camera_name, i)), ReadFile(SessionReader::Open(b.session_dir).DepthPath(a.camera_name, i)));
   }
   // The fakenect recording holds the same frames, in order, at the session's host times.
-  const std::vector<capture::FakenectEntry> entries = capture::ReadFakenectIndex(a.fakenect_dir);
+  const std::vector<capture::FakenectEntry> entries = capture::ReadFakenectIndex(fakenect.dir());
   ASSERT_EQ(entries.size(), 8u);
   EXPECT_EQ(entries[2].type, 'd');
   EXPECT_NEAR(entries[2].host_time_s, a.truth.frames[1].depth_time_ns * 1e-9, 1e-6);
-  const cv::Mat raw = capture::ReadFakenectDepthRaw(a.fakenect_dir / entries[2].file);
+  const cv::Mat raw = capture::ReadFakenectDepthRaw(fakenect.dir() / entries[2].file);
   const DepthImage depth = session.LoadDepth(a.camera_name, 1);
   ASSERT_EQ(raw.cols, depth.width);
   EXPECT_EQ(raw.at<uint16_t>(240, 320) == kKinect1NoDisparity, depth.at(320, 240) == 0.0f);

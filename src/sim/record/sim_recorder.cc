@@ -9,7 +9,6 @@
 #include <opencv2/imgcodecs.hpp>
 #include <thread>
 
-#include "capture/kinect/fakenect_recording.h"
 #include "core/check.h"
 #include "session/writer.h"
 #include "sim/mesh_generator.h"
@@ -118,7 +117,7 @@ class OrderedSink {
 struct FrameWriters {
   SessionWriter& session;
   std::string camera;
-  capture::FakenectRecordingWriter* fakenect = nullptr;
+  FrameTap* tap = nullptr;
   fs::path truth_instance_dir;
 };
 
@@ -131,7 +130,7 @@ void WriteFrame(const SimFrame& frame, const FrameTruth& truth, FrameWriters& ou
   // colour_delay_ms earlier; Kinect v1 at the same instant).
   record.stamp_ns = truth.color_time_ns;
   out.session.WriteCameraFrame(out.camera, record, bgr, depth);
-  if (out.fakenect) out.fakenect->AddFrame(bgr, depth, static_cast<uint64_t>(record.device_ticks), truth.depth_time_ns * 1e-9);
+  if (out.tap) out.tap->Add(bgr, depth, static_cast<uint64_t>(record.device_ticks), truth.depth_time_ns * 1e-9);
 }
 
 void WriteTruthInstances(const SimFrame& frame, const fs::path& dir) {
@@ -217,8 +216,8 @@ RecordResult RecordSimulation(const Scenario& scenario, const ObjectLibrary& lib
   const auto start = std::chrono::steady_clock::now();
   options.check();
   scenario.check(library, "scenario '" + scenario.options.name + "'");
-  if (options.write_fakenect && scenario.options.sensor != SensorKind::kKinect1)
-    throw InputError("scenario '" + scenario.options.name + "'", "a fakenect recording is of a Kinect v1 (sensor: kinect1)");
+  if (options.frame_tap && scenario.options.sensor != SensorKind::kKinect1)
+    throw InputError("scenario '" + scenario.options.name + "'", "a frame tap (fakenect recording) takes Kinect v1 frames (sensor: kinect1)");
   RecordResult result;
   const SceneMotion motion(scenario);
   result.truth = ComputeTruth(motion, library);
@@ -236,18 +235,13 @@ RecordResult RecordSimulation(const Scenario& scenario, const ObjectLibrary& lib
   result.library_dir = meshes_dir;
   result.truth_dir = S / "truth";
   fs::create_directories(result.truth_dir / "instance");
-  std::unique_ptr<capture::FakenectRecordingWriter> fakenect;
-  if (options.write_fakenect) {
-    result.fakenect_dir = S / "fakenect";
-    capture::RecordingCamera camera{given.color_camera, true};
-    fakenect = std::make_unique<capture::FakenectRecordingWriter>(result.fakenect_dir, camera);
-  }
+  if (options.frame_tap) options.frame_tap->Open(given.color_camera);
   // Truth and calibration files first: the session is marked complete (Close) only after everything.
   WriteTruthAndCalibration(scenario, library, meshes_dir, result);
   result.tracker_samples = WriteTrackerStreams(*writer, streams);
-  FrameWriters out{*writer, SimCameraName(scenario.options.sensor), fakenect.get(), result.truth_dir / "instance"};
+  FrameWriters out{*writer, SimCameraName(scenario.options.sensor), options.frame_tap, result.truth_dir / "instance"};
   const int64_t invalid = RenderAndWrite(scenario, library, meshes, result.truth, options, out);
-  if (fakenect) fakenect->Close();
+  if (options.frame_tap) options.frame_tap->Close();
   writer->Close();
   result.frames = static_cast<int>(result.truth.frames.size());
   const double pixels = double(result.frames) * given.depth_camera.width * given.depth_camera.height;

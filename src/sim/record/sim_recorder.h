@@ -10,7 +10,7 @@
 //   S/truth/calibration.json                        true and given calibration, injected errors
 //   S/truth/poses.jsonl                             per frame: true poses of every object (colour and depth frame)
 //   S/truth/instance/<frame>.png                    uint16, colour image: library object id (occluders 65000 + k)
-//   S/fakenect/ (optional, Kinect v1)               the frames as a libfreenect fakenect recording
+// Optionally every camera frame also goes to a FrameTap (frame_tap.h; e.g. a fakenect recording).
 // Frames are rendered in parallel (one EGL context per worker) and written in frame order; the result
 // is the same for any number of threads.
 #include <cstdint>
@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "render/render_context.h"
+#include "sim/record/frame_tap.h"
 #include "sim/object_library.h"
 #include "sim/scenario.h"
 #include "sim/truth.h"
@@ -28,7 +29,8 @@ namespace mocap::sim {
 struct RecordOptions {
   std::filesystem::path out_dir;  ///< the session folder; must not exist or be empty
   int threads = 0;                ///< render workers; 0 = one per core
-  bool write_fakenect = false;    ///< also write S/fakenect/ (Kinect v1 scenarios only)
+  /// Also fed every camera frame in order (Kinect v1 scenarios only); not owned, may be null.
+  FrameTap* frame_tap = nullptr;
   RenderContextOptions context;
   void check() const;  ///< throws InputError
 };
@@ -38,7 +40,7 @@ struct RecordResult {
   int64_t tracker_samples = 0;
   double invalid_depth_fraction = 0;  ///< pixels without depth from the sensor model (shadows, edges, range)
   double seconds = 0;
-  std::filesystem::path session_dir, rig_file, objects_file, truth_dir, fakenect_dir;
+  std::filesystem::path session_dir, rig_file, objects_file, truth_dir;
   std::filesystem::path library_dir;  ///< folder of the mesh files used
   SimulationTruth truth;
   std::vector<std::string> body_of_object;  ///< tracker body per scenario object
