@@ -49,14 +49,19 @@ int RunLabel(int argc, char** argv) {
   app.add_option("--platform", platform, "EGL platform: auto, surfaceless or device");
   app.add_flag("--overlay", options.output.write_overlay, "also write label colours over the RGB image");
   bool no_masks = false, no_depth = false;
-  app.add_flag("--no-masks", no_masks, "skip the per-object mask PNGs");
+  std::string depth_compression = "rle";
+  app.add_flag("--no-masks", no_masks, "skip the per-object packed mask PNGs");
+  app.add_flag("--bop-masks", options.output.write_bop_masks,
+               "also write three full-size 0/255 mask PNGs per object (mask/, mask_visib/, mask_visib_depth/)");
   app.add_flag("--no-depth", no_depth, "skip the rendered depth (OpenEXR)");
+  app.add_option("--depth-compression", depth_compression, "OpenEXR codec of the rendered depth: none, rle, zips, zip, piz");
   app.add_flag("--json", json, "print one JSON summary on stdout");
   CLI11_PARSE(app, argc, argv);
 
   options.out_dir = out_dir.empty() ? fs::path(session_dir) / "labels" : fs::path(out_dir);
   options.output.write_masks = !no_masks;
   options.output.write_depth = !no_depth;
+  options.output.depth_compression = DepthCompressionFromString(depth_compression);
   options.chain.interpolation.max_gap_ns = static_cast<int64_t>(max_gap_ms * 1e6);
   options.context.platform = EglPlatformFromString(platform);
   const SessionReader session = SessionReader::Open(session_dir);

@@ -32,6 +32,15 @@ struct LabelOptions {
   void check() const;
 };
 
+/// Where the workers' time went, summed over workers (seconds of wall time on each worker thread).
+struct LabelStageSeconds {
+  double render = 0;      ///< Renderer::Render (rasterisation, readback, the combined z-buffer)
+  double read_depth = 0;  ///< loading the measured depth (and the colour for an overlay)
+  double labels = 0;      ///< masks and statistics (ComputeObjectLabels) and packing the masks
+  double write = 0;       ///< encoding and writing the image files of the frame
+  double total() const { return render + read_depth + labels + write; }
+};
+
 struct LabelSummary {
   int64_t frames = 0;             ///< camera records labelled (colour or depth present)
   int64_t frames_skipped = 0;     ///< records whose image files are missing
@@ -40,7 +49,9 @@ struct LabelSummary {
   int64_t frames_flagged = 0;     ///< frames with at least one flagged instance
   std::map<std::string, int64_t> flag_counts;
   double seconds = 0;
-  double render_seconds = 0;      ///< summed over workers
+  double render_seconds = 0;      ///< summed over workers (= stages.render)
+  LabelStageSeconds stages;
+  int threads = 0;                ///< worker threads used
   std::filesystem::path out_dir;
   bool complete = false;
 };
