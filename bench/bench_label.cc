@@ -14,6 +14,7 @@
 
 #include "label/labeller.h"
 #include "render/primitives.h"
+#include "session/image_io.h"
 #include "session/writer.h"
 
 namespace mocap {
@@ -98,17 +99,15 @@ void BM_LabelSession(benchmark::State& state) {
   const SessionReader session = SessionReader::Open(WriteBenchSession(dir, objects));
   const LabelOptions options = VariantOptions(dir / "L", static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
   double seconds = 0, cpu_seconds = 0;
-  LabelStageSeconds stages;
+  LabelStageSeconds stages, stages_cpu;
   int64_t frames = 0;
   for (auto _ : state) {
     const double cpu0 = ProcessCpuSeconds();
     const LabelSummary summary = LabelSession(session, objects, Rig{}, options);
     cpu_seconds += ProcessCpuSeconds() - cpu0;
     seconds += summary.seconds;
-    stages.render += summary.stages.render;
-    stages.read_depth += summary.stages.read_depth;
-    stages.labels += summary.stages.labels;
-    stages.write += summary.stages.write;
+    stages += summary.stages;
+    stages_cpu += summary.stages_cpu;
     frames += summary.frames;
   }
   const double n = static_cast<double>(frames);
@@ -116,10 +115,13 @@ void BM_LabelSession(benchmark::State& state) {
   state.counters["cpu_ms_per_frame"] = 1e3 * cpu_seconds / n;
   state.counters["fps_2_idle_cores"] = 2.0 * n / cpu_seconds;
   state.counters["render_share"] = stages.render / stages.total();
-  state.counters["render_ms"] = 1e3 * stages.render / n;
-  state.counters["read_depth_ms"] = 1e3 * stages.read_depth / n;
-  state.counters["labels_ms"] = 1e3 * stages.labels / n;
-  state.counters["write_ms"] = 1e3 * stages.write / n;
+  // CPU time of the worker threads per stage: load-independent; with LP_NUM_THREADS=0 it is all the
+  // rendering work, so cpu_render_share is the renderer's share on an idle machine.
+  state.counters["cpu_render_share"] = stages_cpu.render / stages_cpu.total();
+  state.counters["cpu_render_ms"] = 1e3 * stages_cpu.render / n;
+  state.counters["cpu_read_depth_ms"] = 1e3 * stages_cpu.read_depth / n;
+  state.counters["cpu_labels_ms"] = 1e3 * stages_cpu.labels / n;
+  state.counters["cpu_write_ms"] = 1e3 * stages_cpu.write / n;
   fs::remove_all(dir);
 }
 BENCHMARK(BM_LabelSession)
@@ -132,6 +134,31 @@ BENCHMARK(BM_LabelSession)
     ->Unit(benchmark::kMillisecond)
     ->Iterations(2)
     ->UseRealTime();
+
+/// A rendered depth image of the benchmark scene (frame 0), from one label run with uncompressed EXR.
+DepthImage BenchRenderedDepth(const fs::path& dir) {
+  std::vector<LabelObject> objects;
+  const SessionReader session = SessionReader::Open(WriteBenchSession(dir, objects));
+  LabelOptions options = VariantOptions(dir / "L", 1, 0);
+  options.cameras = {"kinect1"};
+  options.output.depth_compression = DepthCompression::kNone;
+  LabelSession(session, objects, Rig{}, options);
+  return ReadDepth(dir / "L" / "kinect1" / "depth" / "000000.exr", 1.0);
+}
+
+/// Cost and size of each lossless OpenEXR codec on rendered depth (one thread).
+void BM_DepthExrCodec(benchmark::State& state) {
+  const fs::path dir = fs::temp_directory_path() / ("mocaplabel_bench_exr_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const DepthImage depth = BenchRenderedDepth(dir);
+  const auto codec = static_cast<DepthCompression>(state.range(0));
+  for (auto _ : state) WriteRenderedDepthExr(dir / "d.exr", depth, codec);
+  state.counters["kB"] = static_cast<double>(fs::file_size(dir / "d.exr")) / 1e3;
+  state.SetLabel(DepthCompressionName(codec));
+  fs::remove_all(dir);
+}
+BENCHMARK(BM_DepthExrCodec)->DenseRange(0, 4)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace mocap

@@ -6,6 +6,7 @@
 #include <fstream>
 #include <mutex>
 #include <thread>
+#include <time.h>
 
 #include "core/check.h"
 #include "render/mesh.h"
@@ -59,15 +60,29 @@ struct Worker {
   Renderer& renderer;
   const std::vector<MeshHandle>& handles;
   RenderOutput render;
-  LabelStageSeconds seconds;
+  LabelStageSeconds wall, cpu;
 };
 
-/// Adds the time since `start` to `stage` and restarts the clock.
-void Lap(Clock::time_point& start, double& stage) {
-  const auto now = Clock::now();
-  stage += std::chrono::duration<double>(now - start).count();
-  start = now;
+double ThreadCpuSeconds() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
 }
+
+/// Wall and thread-CPU clocks of one worker, read at each stage boundary.
+struct StageClock {
+  Clock::time_point wall = Clock::now();
+  double cpu = ThreadCpuSeconds();
+
+  /// Adds the time since the last lap to the stage (a member pointer of LabelStageSeconds).
+  void Lap(Worker& worker, double LabelStageSeconds::*stage) {
+    const auto wall_now = Clock::now();
+    const double cpu_now = ThreadCpuSeconds();
+    worker.wall.*stage += std::chrono::duration<double>(wall_now - wall).count();
+    worker.cpu.*stage += cpu_now - cpu;
+    wall = wall_now, cpu = cpu_now;
+  }
+};
 
 /// Labels one frame with a worker's renderer, adding its time per stage to worker.seconds.
 void LabelFrame(const SessionReader& session, const std::vector<LabelObject>& objects, Worker& worker, CameraJob& job,
@@ -86,14 +101,14 @@ void LabelFrame(const SessionReader& session, const std::vector<LabelObject>& ob
     items.push_back({worker.handles[object_index], *results[i].pose.T_camera_mesh, results[i].instance->instance_id});
     result_of_item.push_back(i);
   }
-  auto t = Clock::now();
+  StageClock clock;
   worker.renderer.Render(chain.camera(), items, worker.render);
-  Lap(t, worker.seconds.render);
+  clock.Lap(worker, &LabelStageSeconds::render);
   const bool use_depth = entry.depth_present && job.depth_registered;
   const DepthImage depth = use_depth ? session.LoadDepth(job.camera, index) : DepthImage();
   const bool overlay = options.output.write_overlay && entry.color_present;
   const cv::Mat color = overlay ? session.LoadColor(job.camera, index) : cv::Mat();
-  Lap(t, worker.seconds.read_depth);
+  clock.Lap(worker, &LabelStageSeconds::read_depth);
   const std::vector<ObjectLabels> labels =
       ComputeObjectLabels(worker.render, chain.camera(), use_depth ? &depth : nullptr, options.visibility);
   std::vector<PackedMasks> packed(options.output.write_masks ? labels.size() : 0);
@@ -105,9 +120,9 @@ void LabelFrame(const SessionReader& session, const std::vector<LabelObject>& ob
     packed[k] = PackMasks(labels[k].masks);
     r.packed = &packed[k];
   }
-  Lap(t, worker.seconds.labels);
+  clock.Lap(worker, &LabelStageSeconds::labels);
   WriteFrameImages(out, job.camera, index, worker.render, results, color, options.output);
-  Lap(t, worker.seconds.write);
+  clock.Lap(worker, &LabelStageSeconds::write);
   auto& lines = job.lines[static_cast<size_t>(index)];
   for (const InstanceResult& r : results) lines.push_back(LabelRecord(job.camera, index, entry.record, r, use_depth));
 }
@@ -136,14 +151,12 @@ void RunWorkers(const SessionReader& session, const std::vector<LabelObject>& ob
       Renderer renderer(*context, options.renderer);
       std::vector<MeshHandle> handles;
       for (const Mesh& m : meshes) handles.push_back(renderer.Upload(m));
-      Worker worker{renderer, handles, {}, {}};
+      Worker worker{renderer, handles, {}, {}, {}};
       for (size_t w = next++; w < work.size() && !failed; w = next++)
         LabelFrame(session, objects, worker, jobs[work[w].first], work[w].second, options, out);
       std::lock_guard lock(mutex);
-      summary.stages.render += worker.seconds.render;
-      summary.stages.read_depth += worker.seconds.read_depth;
-      summary.stages.labels += worker.seconds.labels;
-      summary.stages.write += worker.seconds.write;
+      summary.stages += worker.wall;
+      summary.stages_cpu += worker.cpu;
     } catch (...) {
       std::lock_guard lock(mutex);
       if (!error) error = std::current_exception();
@@ -184,6 +197,10 @@ void WriteLines(const std::vector<CameraJob>& jobs, const fs::path& file, LabelS
   if (!jsonl) throw InputError(file.string(), "could not write (disk full or not writable?)");
 }
 
+nlohmann::json StagesJson(const LabelStageSeconds& s) {
+  return {{"render", s.render}, {"read_depth", s.read_depth}, {"labels", s.labels}, {"write", s.write}};
+}
+
 nlohmann::json SummaryJson(const LabelSummary& s, const SessionReader& session) {
   return {{"session", fs::absolute(session.dir()).string()},
           {"complete", s.complete},
@@ -196,9 +213,8 @@ nlohmann::json SummaryJson(const LabelSummary& s, const SessionReader& session) 
           {"seconds", s.seconds},
           {"render_seconds", s.render_seconds},
           {"threads", s.threads},
-          {"stage_seconds",
-           {{"render", s.stages.render}, {"read_depth", s.stages.read_depth}, {"labels", s.stages.labels},
-            {"write", s.stages.write}}}};
+          {"stage_seconds", StagesJson(s.stages)},
+          {"stage_cpu_seconds", StagesJson(s.stages_cpu)}};
 }
 
 /// Moves the finished output into place: the old output is removed only once the new one is whole.
@@ -208,6 +224,11 @@ void Publish(const fs::path& partial, const fs::path& out) {
 }
 
 }  // namespace
+
+LabelStageSeconds& LabelStageSeconds::operator+=(const LabelStageSeconds& o) {
+  render += o.render, read_depth += o.read_depth, labels += o.labels, write += o.write;
+  return *this;
+}
 
 void LabelOptions::check() const {
   if (out_dir.empty()) throw InputError("label", "no output folder given (--out)");
