@@ -80,7 +80,8 @@ double ProcessCpuSeconds() {
 }
 
 /// Output variants: 0 = the defaults; 1 = also BOP-style full-size masks; 2 = defaults with ZIPS depth;
-/// 3 = defaults with back faces culled.
+/// 3 = defaults with back faces culled; 4 = no rendered depth; 5 = no mask files (these two split the
+/// encode + write stage).
 LabelOptions VariantOptions(const fs::path& out, int threads, int variant) {
   LabelOptions options;
   options.out_dir = out;
@@ -88,6 +89,8 @@ LabelOptions VariantOptions(const fs::path& out, int threads, int variant) {
   options.output.write_bop_masks = variant == 1;
   if (variant == 2) options.output.depth_compression = DepthCompression::kZips;
   options.renderer.cull_back_faces = variant == 3;
+  options.output.write_depth = variant != 4;
+  options.output.write_masks = variant != 5;
   return options;
 }
 
@@ -131,6 +134,8 @@ BENCHMARK(BM_LabelSession)
     ->Args({2, 1})
     ->Args({2, 2})
     ->Args({2, 3})
+    ->Args({2, 4})
+    ->Args({2, 5})
     ->Unit(benchmark::kMillisecond)
     ->Iterations(2)
     ->UseRealTime();

@@ -66,7 +66,7 @@ int RunLabel(int argc, char** argv) {
   options.chain.interpolation.max_gap_ns = static_cast<int64_t>(max_gap_ms * 1e6);
   options.context.platform = EglPlatformFromString(platform);
   // Every worker owns a context and keeps a core busy; llvmpipe's own rasteriser threads (one per core by
-  // default) then only add hand-over cost: 36 -> 29 ms CPU per frame with 2 workers (bench/RESULTS.md,
+  // default) then only add hand-over cost: 36 -> 29-34 ms CPU per frame with 2 workers (bench/RESULTS.md,
   // bench_label). Mesa reads the variable once, at the first EGL display, which is still to come here.
   if (options.threads != 1 && std::getenv("LP_NUM_THREADS") == nullptr) setenv("LP_NUM_THREADS", "0", 0);
   const SessionReader session = SessionReader::Open(session_dir);
