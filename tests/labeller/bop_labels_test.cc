@@ -5,15 +5,11 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
-#include <algorithm>
-#include <cstdio>
 #include <fstream>
 #include <map>
-#include <opencv2/imgcodecs.hpp>
 
 #include "cli/objects_yaml.h"
 #include "label/labeller.h"
-#include "label/mask_file.h"
 #include "labeller_test_util.h"
 #include "session/import/bop_import.h"
 
@@ -21,34 +17,6 @@ namespace mocap {
 namespace {
 
 const std::filesystem::path kScene = std::filesystem::path(MOCAP_SHARED_DIR) / "realdata/bop_lmo_scene2";
-
-/// Compares one mask recovered from the packed file with the full-size 0/255 PNG at `full_png`.
-void ExpectSameMask(const std::vector<uint8_t>& mask, const PixelRect& rect, const std::filesystem::path& full_png) {
-  const cv::Mat full = cv::imread(full_png.string(), cv::IMREAD_UNCHANGED);
-  ASSERT_FALSE(full.empty()) << full_png;
-  const Image<uint8_t> recovered = ToFullImage(mask, rect, full.cols, full.rows);
-  ASSERT_TRUE(full.isContinuous());
-  EXPECT_TRUE(std::equal(recovered.data.begin(), recovered.data.end(), full.ptr<uint8_t>(0))) << full_png;
-}
-
-/// Every record with a mask: the three masks of its packed file equal the BOP-style files.
-int CheckPackedMasks(const std::filesystem::path& labels, const std::vector<nlohmann::json>& records) {
-  int checked = 0;
-  for (const auto& r : records) {
-    if (!r.contains("mask_rect") || r["mask_rect"].is_null()) continue;
-    const auto& m = r["mask_rect"];
-    const PixelRect rect{m[0], m[1], m[2], m[3]};
-    char stem[32];
-    std::snprintf(stem, sizeof(stem), "%06d_%06d.png", r["index"].get<int>(), r["instance"].get<int>());
-    const auto camera = labels / r["camera"].get<std::string>();
-    const ObjectMasks masks = ReadMaskFile(camera / "mask_bits" / stem, rect, r["visib_source"] == "measured_depth");
-    ExpectSameMask(masks.amodal, rect, camera / "mask" / stem);
-    ExpectSameMask(masks.visible_model, rect, camera / "mask_visib" / stem);
-    if (!masks.visible_measured.empty()) ExpectSameMask(masks.visible_measured, rect, camera / "mask_visib_depth" / stem);
-    ++checked;
-  }
-  return checked;
-}
 
 TEST(LabellerBop, ImportedSceneMatchesSceneGtInfo) {
   const auto dir = testing::FreshDir("bop");
@@ -69,7 +37,7 @@ TEST(LabellerBop, ImportedSceneMatchesSceneGtInfo) {
   std::map<std::pair<std::string, std::string>, nlohmann::json> records;
   const std::vector<nlohmann::json> lines = testing::ReadJsonLines(dir / "L" / "labels.jsonl");
   for (const auto& r : lines) records[{r["source_id"].get<std::string>(), r["body"].get<std::string>()}] = r;
-  EXPECT_GT(CheckPackedMasks(dir / "L", lines), 50);
+  EXPECT_GT(testing::CheckPackedMasks(dir / "L", lines), 50);
   int compared = 0;
   for (const std::string im_id : {"3", "8", "17", "27", "36", "38", "39", "41", "47", "58"}) {
     std::map<int, int> seen;

@@ -80,6 +80,29 @@ TEST(Labeller, PoseConventionsEndToEnd) {
   std::filesystem::remove_all(dir);
 }
 
+TEST(Labeller, PackedMasksEqualTheBopStyleMasks) {
+  // Measured depth 0.7 m (in front of the marker at ~0.8 m: an occluder) in even columns, missing in odd
+  // ones: the measured-depth mask keeps the odd columns only, and all three masks must come back from
+  // the packed file exactly as the full-size files have them.
+  const auto dir = FreshDir("packed");
+  const testing::SyntheticRig rig;
+  const PinholeCamera cam = testing::TestCamera();
+  cv::Mat depth(cam.height, cam.width, CV_16UC1, cv::Scalar(0));
+  for (int u = 0; u < cam.width; u += 2) depth.col(u).setTo(700);
+  rig.WriteSession(dir / "S", 2, -1, -1, depth);
+  LabelOptions options = Options(dir / "L");
+  options.output.write_bop_masks = true;
+  LabelSession(SessionReader::Open(dir / "S"), {MarkerObject(dir, rig)}, Rig{}, options);
+  const auto lines = ReadJsonLines(dir / "L" / "labels.jsonl");
+  ASSERT_EQ(lines.size(), 2u);
+  EXPECT_EQ(lines[0]["visib_source"], "measured_depth");
+  EXPECT_EQ(testing::CheckPackedMasks(dir / "L", lines), 2);
+  const int all = lines[0]["px_count_all"], visib = lines[0]["px_count_visib"];
+  EXPECT_GT(visib, 0);
+  EXPECT_LT(visib, all);
+  std::filesystem::remove_all(dir);
+}
+
 TEST(Labeller, TrackerDropoutIsFlaggedNotFilled) {
   const auto dir = FreshDir("dropout");
   const testing::SyntheticRig rig;
