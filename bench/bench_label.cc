@@ -11,6 +11,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <opencv2/imgcodecs.hpp>
 
 #include "label/labeller.h"
 #include "render/primitives.h"
@@ -140,23 +141,38 @@ BENCHMARK(BM_LabelSession)
     ->Iterations(2)
     ->UseRealTime();
 
-/// A rendered depth image of the benchmark scene (frame 0), from one label run with uncompressed EXR.
-DepthImage BenchRenderedDepth(const fs::path& dir) {
-  std::vector<LabelObject> objects;
-  const SessionReader session = SessionReader::Open(WriteBenchSession(dir, objects));
-  LabelOptions options = VariantOptions(dir / "L", 1, 0);
-  options.cameras = {"kinect1"};
-  options.output.depth_compression = DepthCompression::kNone;
-  LabelSession(session, objects, Rig{}, options);
-  return ReadDepth(dir / "L" / "kinect1" / "depth" / "000000.exr", 1.0);
+fs::path FreshBenchDir(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("mocaplabel_bench_" + name + "_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+/// The benchmark scene labelled once per process (uncompressed EXR, BOP-style masks too), for the codec
+/// benchmarks below, which read frame 0's images back; removed at exit.
+struct LabelledOnce {
+  fs::path dir = FreshBenchDir("labelled");
+  fs::path images;
+  LabelledOnce() {
+    std::vector<LabelObject> objects;
+    const SessionReader session = SessionReader::Open(WriteBenchSession(dir, objects));
+    LabelOptions options = VariantOptions(dir / "L", 1, 1);
+    options.output.depth_compression = DepthCompression::kNone;
+    LabelSession(session, objects, Rig{}, options);
+    images = dir / "L" / "kinect1";
+  }
+  ~LabelledOnce() { fs::remove_all(dir); }
+};
+
+const fs::path& LabelledImages() {
+  static const LabelledOnce labelled;
+  return labelled.images;
 }
 
 /// Cost and size of each lossless OpenEXR codec on rendered depth (one thread).
 void BM_DepthExrCodec(benchmark::State& state) {
-  const fs::path dir = fs::temp_directory_path() / ("mocaplabel_bench_exr_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  const DepthImage depth = BenchRenderedDepth(dir);
+  const fs::path dir = FreshBenchDir("exr");
+  const DepthImage depth = ReadDepth(LabelledImages() / "depth" / "000000.exr", 1.0);
   const auto codec = static_cast<DepthCompression>(state.range(0));
   for (auto _ : state) WriteRenderedDepthExr(dir / "d.exr", depth, codec);
   state.counters["kB"] = static_cast<double>(fs::file_size(dir / "d.exr")) / 1e3;
@@ -164,6 +180,28 @@ void BM_DepthExrCodec(benchmark::State& state) {
   fs::remove_all(dir);
 }
 BENCHMARK(BM_DepthExrCodec)->DenseRange(0, 4)->Unit(benchmark::kMillisecond);
+
+/// One label PNG of frame 0 (0: the 16-bit instance image; 1: a full-size 0/255 amodal mask; 2: the
+/// packed mask of the same object), written with WriteLabelPng (arg 1 = 0) or with an explicit zlib
+/// level 1 (arg 1 = 1: libpng then tries every row filter; what the labeller used before).
+void BM_LabelPng(benchmark::State& state) {
+  const fs::path dir = FreshBenchDir("png");
+  const fs::path& images = LabelledImages();
+  const char* sources[] = {"instance/000000.png", "mask/000000_000001.png", "mask_bits/000000_000001.png"};
+  const cv::Mat image = cv::imread((images / sources[state.range(0)]).string(), cv::IMREAD_UNCHANGED);
+  const fs::path out = dir / "out.png";
+  for (auto _ : state) {
+    if (state.range(1) == 0) {
+      WriteLabelPng(out, image);
+    } else {
+      cv::imwrite(out.string(), image, {cv::IMWRITE_PNG_COMPRESSION, 1});
+    }
+  }
+  state.counters["kB"] = static_cast<double>(fs::file_size(out)) / 1e3;
+  state.SetLabel(sources[state.range(0)]);
+  fs::remove_all(dir);
+}
+BENCHMARK(BM_LabelPng)->ArgsProduct({{0, 1, 2}, {0, 1}})->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace mocap
