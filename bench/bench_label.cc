@@ -1,16 +1,21 @@
 // The whole labelling path at 640x480 (bench/RESULTS.md): a recorded session of a tracked camera and 3
 // tracked objects of about 20k triangles each, through `LabelSession` with every default output written
-// (instance and class PNGs, rendered depth EXR, three masks per object, labels.jsonl) and the measured
-// depth read for the visibility test. Reports labelled frames per second and the renderer's share of
-// the worker time.
+// (instance and class PNGs, rendered depth EXR, one packed mask PNG per object, labels.jsonl) and the
+// measured depth read for the visibility test. Reports labelled frames per second (wall clock, the whole
+// run including loading the meshes), CPU time per frame over all threads and the rate two idle cores
+// reach from it, and the workers' time per stage (render, read depth, labels, encode + write).
+// Set LP_NUM_THREADS before the run (llvmpipe reads it once per process).
 #include <benchmark/benchmark.h>
+#include <time.h>
 #include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
+#include <opencv2/imgcodecs.hpp>
 
 #include "label/labeller.h"
 #include "render/primitives.h"
+#include "session/image_io.h"
 #include "session/writer.h"
 
 namespace mocap {
@@ -18,7 +23,7 @@ namespace {
 
 namespace fs = std::filesystem;
 constexpr int64_t kMs = 1'000'000;
-constexpr int kFrames = 60;
+constexpr int kFrames = 120;
 const PinholeCamera kCamera{640, 480, 525.0, 525.0, 319.5, 239.5, {}};
 
 void WriteObj(const Mesh& mesh, const fs::path& path) {
@@ -69,28 +74,134 @@ fs::path WriteBenchSession(const fs::path& dir, std::vector<LabelObject>& object
   return dir / "S";
 }
 
+double ProcessCpuSeconds() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
+/// Output variants: 0 = the defaults; 1 = also BOP-style full-size masks; 2 = defaults with ZIPS depth;
+/// 3 = defaults with back faces culled; 4 = no rendered depth; 5 = no mask files (these two split the
+/// encode + write stage).
+LabelOptions VariantOptions(const fs::path& out, int threads, int variant) {
+  LabelOptions options;
+  options.out_dir = out;
+  options.threads = threads;
+  options.output.write_bop_masks = variant == 1;
+  if (variant == 2) options.output.depth_compression = DepthCompression::kZips;
+  options.renderer.cull_back_faces = variant == 3;
+  options.output.write_depth = variant != 4;
+  options.output.write_masks = variant != 5;
+  return options;
+}
+
 void BM_LabelSession(benchmark::State& state) {
   const fs::path dir = fs::temp_directory_path() / ("mocaplabel_bench_label_" + std::to_string(::getpid()));
   fs::remove_all(dir);
   fs::create_directories(dir);
   std::vector<LabelObject> objects;
   const SessionReader session = SessionReader::Open(WriteBenchSession(dir, objects));
-  LabelOptions options;
-  options.out_dir = dir / "L";
-  options.threads = static_cast<int>(state.range(0));
-  double seconds = 0, render_seconds = 0;
+  const LabelOptions options = VariantOptions(dir / "L", static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
+  double seconds = 0, cpu_seconds = 0;
+  LabelStageSeconds stages, stages_cpu;
   int64_t frames = 0;
   for (auto _ : state) {
+    const double cpu0 = ProcessCpuSeconds();
     const LabelSummary summary = LabelSession(session, objects, Rig{}, options);
+    cpu_seconds += ProcessCpuSeconds() - cpu0;
     seconds += summary.seconds;
-    render_seconds += summary.render_seconds;
+    stages += summary.stages;
+    stages_cpu += summary.stages_cpu;
     frames += summary.frames;
   }
-  state.counters["frames_per_s"] = static_cast<double>(frames) / seconds;
-  state.counters["render_share"] = render_seconds / (seconds * options.threads);
+  const double n = static_cast<double>(frames);
+  state.counters["frames_per_s"] = n / seconds;
+  state.counters["cpu_ms_per_frame"] = 1e3 * cpu_seconds / n;
+  state.counters["fps_2_idle_cores"] = 2.0 * n / cpu_seconds;
+  state.counters["render_share"] = stages.render / stages.total();
+  // CPU time of the worker threads per stage: load-independent; with LP_NUM_THREADS=0 it is all the
+  // rendering work, so cpu_render_share is the renderer's share on an idle machine.
+  state.counters["cpu_render_share"] = stages_cpu.render / stages_cpu.total();
+  state.counters["cpu_render_ms"] = 1e3 * stages_cpu.render / n;
+  state.counters["cpu_read_depth_ms"] = 1e3 * stages_cpu.read_depth / n;
+  state.counters["cpu_labels_ms"] = 1e3 * stages_cpu.labels / n;
+  state.counters["cpu_write_ms"] = 1e3 * stages_cpu.write / n;
   fs::remove_all(dir);
 }
-BENCHMARK(BM_LabelSession)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->Iterations(3)->UseRealTime();
+BENCHMARK(BM_LabelSession)
+    ->ArgNames({"workers", "variant"})
+    ->Args({1, 0})
+    ->Args({2, 0})
+    ->Args({2, 1})
+    ->Args({2, 2})
+    ->Args({2, 3})
+    ->Args({2, 4})
+    ->Args({2, 5})
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(2)
+    ->UseRealTime();
+
+fs::path FreshBenchDir(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("mocaplabel_bench_" + name + "_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+/// The benchmark scene labelled once per process (uncompressed EXR, BOP-style masks too), for the codec
+/// benchmarks below, which read frame 0's images back; removed at exit.
+struct LabelledOnce {
+  fs::path dir = FreshBenchDir("labelled");
+  fs::path images;
+  LabelledOnce() {
+    std::vector<LabelObject> objects;
+    const SessionReader session = SessionReader::Open(WriteBenchSession(dir, objects));
+    LabelOptions options = VariantOptions(dir / "L", 1, 1);
+    options.output.depth_compression = DepthCompression::kNone;
+    LabelSession(session, objects, Rig{}, options);
+    images = dir / "L" / "kinect1";
+  }
+  ~LabelledOnce() { fs::remove_all(dir); }
+};
+
+const fs::path& LabelledImages() {
+  static const LabelledOnce labelled;
+  return labelled.images;
+}
+
+/// Cost and size of each lossless OpenEXR codec on rendered depth (one thread).
+void BM_DepthExrCodec(benchmark::State& state) {
+  const fs::path dir = FreshBenchDir("exr");
+  const DepthImage depth = ReadDepth(LabelledImages() / "depth" / "000000.exr", 1.0);
+  const auto codec = static_cast<DepthCompression>(state.range(0));
+  for (auto _ : state) WriteRenderedDepthExr(dir / "d.exr", depth, codec);
+  state.counters["kB"] = static_cast<double>(fs::file_size(dir / "d.exr")) / 1e3;
+  state.SetLabel(DepthCompressionName(codec));
+  fs::remove_all(dir);
+}
+BENCHMARK(BM_DepthExrCodec)->DenseRange(0, 4)->Unit(benchmark::kMillisecond);
+
+/// One label PNG of frame 0 (0: the 16-bit instance image; 1: a full-size 0/255 amodal mask; 2: the
+/// packed mask of the same object), written with WriteLabelPng (arg 1 = 0) or with an explicit zlib
+/// level 1 (arg 1 = 1: libpng then tries every row filter; what the labeller used before).
+void BM_LabelPng(benchmark::State& state) {
+  const fs::path dir = FreshBenchDir("png");
+  const fs::path& images = LabelledImages();
+  const char* sources[] = {"instance/000000.png", "mask/000000_000001.png", "mask_bits/000000_000001.png"};
+  const cv::Mat image = cv::imread((images / sources[state.range(0)]).string(), cv::IMREAD_UNCHANGED);
+  const fs::path out = dir / "out.png";
+  for (auto _ : state) {
+    if (state.range(1) == 0) {
+      WriteLabelPng(out, image);
+    } else {
+      cv::imwrite(out.string(), image, {cv::IMWRITE_PNG_COMPRESSION, 1});
+    }
+  }
+  state.counters["kB"] = static_cast<double>(fs::file_size(out)) / 1e3;
+  state.SetLabel(sources[state.range(0)]);
+  fs::remove_all(dir);
+}
+BENCHMARK(BM_LabelPng)->ArgsProduct({{0, 1, 2}, {0, 1}})->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace mocap

@@ -5,23 +5,48 @@
 #include <opencv2/imgproc.hpp>
 
 #include "core/check.h"
-#include "session/image_io.h"
 
 namespace mocap {
 namespace {
 
-void WritePng(const std::filesystem::path& path, const cv::Mat& image) {
-  if (!cv::imwrite(path.string(), image, {cv::IMWRITE_PNG_COMPRESSION, 1}))
-    throw InputError(path.string(), "could not write the image (disk full or not writable?)");
+/// A view of `image` (no copy: the encoder only reads it).
+cv::Mat ToMat(const LabelImage& image) {
+  return cv::Mat(image.height, image.width, CV_16UC1, const_cast<uint16_t*>(image.data.data()));
 }
 
-cv::Mat ToMat(const LabelImage& image) {
-  return cv::Mat(image.height, image.width, CV_16UC1, const_cast<uint16_t*>(image.data.data())).clone();
+/// Object ids per pixel, through a lookup from instance id (one pass over the image).
+LabelImage ClassImage(const LabelImage& instance_ids, const std::vector<InstanceResult>& results) {
+  std::vector<uint16_t> class_of(1, 0);
+  for (const InstanceResult& r : results) {
+    const uint16_t id = r.instance->instance_id;
+    if (class_of.size() <= id) class_of.resize(id + 1u, 0);
+    class_of[id] = static_cast<uint16_t>(r.instance->object->id);
+  }
+  LabelImage classes(instance_ids.width, instance_ids.height, 0);
+  for (size_t i = 0; i < classes.data.size(); ++i) {
+    const uint16_t id = instance_ids.data[i];
+    classes.data[i] = id < class_of.size() ? class_of[id] : 0;
+  }
+  return classes;
 }
 
 cv::Mat MaskMat(const std::vector<uint8_t>& mask, const PixelRect& rect, int width, int height) {
   const Image<uint8_t> full = ToFullImage(mask, rect, width, height);
   return cv::Mat(height, width, CV_8UC1, const_cast<uint8_t*>(full.data.data())).clone();
+}
+
+void WriteBopMasks(const std::filesystem::path& dir, const std::string& stem, const RenderOutput& render,
+                   const std::vector<InstanceResult>& results) {
+  const int w = render.instance_ids.width, h = render.instance_ids.height;
+  for (const InstanceResult& r : results) {
+    if (r.labels == nullptr) continue;
+    const ObjectMasks& m = r.labels->masks;
+    const std::string name = stem + "_" + FrameStem(r.instance->instance_id) + ".png";
+    WriteLabelPng(dir / "mask" / name, MaskMat(m.amodal, m.rect, w, h));
+    WriteLabelPng(dir / "mask_visib" / name, MaskMat(m.visible_model, m.rect, w, h));
+    if (!m.visible_measured.empty())
+      WriteLabelPng(dir / "mask_visib_depth" / name, MaskMat(m.visible_measured, m.rect, w, h));
+  }
 }
 
 cv::Scalar Colour(uint16_t instance_id) {
@@ -66,31 +91,17 @@ void WriteFrameImages(const std::filesystem::path& out_dir, const std::string& c
                       const FrameOutputOptions& options) {
   const std::filesystem::path dir = out_dir / camera;
   const std::string stem = FrameStem(index);
-  WritePng(dir / "instance" / (stem + ".png"), ToMat(render.instance_ids));
-  LabelImage classes(render.instance_ids.width, render.instance_ids.height, 0);
+  WriteLabelPng(dir / "instance" / (stem + ".png"), ToMat(render.instance_ids));
+  const LabelImage classes = ClassImage(render.instance_ids, results);
+  WriteLabelPng(dir / "class" / (stem + ".png"), ToMat(classes));
+  if (options.write_depth) WriteRenderedDepthExr(dir / "depth" / (stem + ".exr"), render.depth_m, options.depth_compression);
   for (const InstanceResult& r : results) {
-    const uint16_t id = r.instance->instance_id;
-    for (size_t i = 0; i < classes.data.size(); ++i)
-      if (render.instance_ids.data[i] == id) classes.data[i] = static_cast<uint16_t>(r.instance->object->id);
+    if (r.packed == nullptr || r.packed->bits.empty()) continue;
+    WriteLabelPng(dir / "mask_bits" / (stem + "_" + FrameStem(r.instance->instance_id) + ".png"), r.packed->bits);
   }
-  WritePng(dir / "class" / (stem + ".png"), ToMat(classes));
-  if (options.write_depth) {
-    const DepthImage& d = render.depth_m;
-    WriteDepthExr(dir / "depth" / (stem + ".exr"), cv::Mat(d.height, d.width, CV_32FC1, const_cast<float*>(d.data.data())),
-                  1.0);
-  }
-  if (options.write_masks) {
-    for (const InstanceResult& r : results) {
-      if (r.labels == nullptr) continue;
-      const ObjectMasks& m = r.labels->masks;
-      const std::string name = stem + "_" + FrameStem(r.instance->instance_id) + ".png";
-      const int w = render.instance_ids.width, h = render.instance_ids.height;
-      WritePng(dir / "mask" / name, MaskMat(m.amodal, m.rect, w, h));
-      WritePng(dir / "mask_visib" / name, MaskMat(m.visible_model, m.rect, w, h));
-      if (!m.visible_measured.empty()) WritePng(dir / "mask_visib_depth" / name, MaskMat(m.visible_measured, m.rect, w, h));
-    }
-  }
-  if (options.write_overlay && !color.empty()) WritePng(dir / "overlay" / (stem + ".png"), Overlay(color, render, results));
+  if (options.write_bop_masks) WriteBopMasks(dir, stem, render, results);
+  if (options.write_overlay && !color.empty())
+    WriteLabelPng(dir / "overlay" / (stem + ".png"), Overlay(color, render, results));
 }
 
 nlohmann::json LabelRecord(const std::string& camera, int64_t index, const CameraFrameRecord& frame,
@@ -127,6 +138,10 @@ nlohmann::json LabelRecord(const std::string& camera, int64_t index, const Camer
   j["visib_fract"] = s.visib_fract;
   j["visib_fract_model"] = s.visib_fract_model;
   j["visib_source"] = has_measured_depth ? "measured_depth" : "model";
+  if (result.packed != nullptr) {
+    const PixelRect& m = result.packed->rect;
+    j["mask_rect"] = m.empty() ? nlohmann::json() : nlohmann::json{m.x, m.y, m.width, m.height};
+  }
   return j;
 }
 

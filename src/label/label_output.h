@@ -1,13 +1,16 @@
 #pragma once
 // The files of a label run (docs/labels.md): per camera and frame the instance and class PNGs (uint16),
-// the rendered depth (OpenEXR, metres), three masks per object, an optional overlay, and one
-// labels.jsonl record per frame and object instance.
+// the rendered depth (OpenEXR, metres), one packed mask PNG per object carrying its three masks
+// (mask_file.h), optionally BOP-style full-size masks and an overlay, and one labels.jsonl record per
+// frame and object instance.
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <opencv2/core/mat.hpp>
 #include <string>
 #include <vector>
 
+#include "label/depth_exr.h"
+#include "label/mask_file.h"
 #include "label/object_labels.h"
 #include "label/pose_chain.h"
 #include "session/records.h"
@@ -16,7 +19,9 @@ namespace mocap {
 
 struct FrameOutputOptions {
   bool write_depth = true;    ///< rendered depth as OpenEXR
-  bool write_masks = true;    ///< per-object mask PNGs (amodal, visible by model, visible by measured depth)
+  DepthCompression depth_compression = DepthCompression::kRle;  ///< lossless; RLE is the cheapest that shrinks
+  bool write_masks = true;    ///< one packed mask PNG per object (amodal, visible by model, by measured depth)
+  bool write_bop_masks = false;  ///< also three full-size 0/255 mask PNGs per object, laid out as BOP's
   bool write_overlay = false; ///< label colours over the RGB image
 };
 
@@ -25,12 +30,15 @@ struct InstanceResult {
   const LabelInstance* instance = nullptr;
   InstancePose pose;
   const ObjectLabels* labels = nullptr;  ///< null when there was no pose to render
+  /// The packed masks written for this instance; null when masks are not written (no `mask_rect`).
+  const PackedMasks* packed = nullptr;
 };
 
 /// "000123": the file stem of camera record `index`.
 std::string FrameStem(int64_t index);
 
-/// Writes a frame's images under out_dir/<camera>/. `color` may be empty (no overlay then).
+/// Writes a frame's images under out_dir/<camera>/. `color` may be empty (no overlay then). The packed
+/// masks are those of `results[i].packed`.
 void WriteFrameImages(const std::filesystem::path& out_dir, const std::string& camera, int64_t index,
                       const RenderOutput& render, const std::vector<InstanceResult>& results, const cv::Mat& color,
                       const FrameOutputOptions& options);

@@ -6,6 +6,7 @@
 #include <fstream>
 #include <mutex>
 #include <thread>
+#include <time.h>
 
 #include "core/check.h"
 #include "render/mesh.h"
@@ -31,14 +32,18 @@ fs::path PartialDir(const fs::path& out) {
   return partial;
 }
 
-fs::path PrepareOutput(const fs::path& out, const std::vector<std::string>& cameras) {
+fs::path PrepareOutput(const fs::path& out, const std::vector<std::string>& cameras, const FrameOutputOptions& output) {
   if (fs::exists(out) && !fs::is_empty(out) && !fs::exists(out / "label_manifest.json"))
     throw InputError(out.string(), "exists and is not an earlier label output; choose another --out");
   const fs::path partial = PartialDir(out);
   fs::remove_all(partial);
+  std::vector<std::string> subs = {"instance", "class"};
+  if (output.write_depth) subs.push_back("depth");
+  if (output.write_masks) subs.push_back("mask_bits");
+  if (output.write_bop_masks) subs.insert(subs.end(), {"mask", "mask_visib", "mask_visib_depth"});
+  if (output.write_overlay) subs.push_back("overlay");
   for (const std::string& camera : cameras)
-    for (const char* sub : {"instance", "class", "depth", "mask", "mask_visib", "mask_visib_depth", "overlay"})
-      fs::create_directories(partial / camera / sub);
+    for (const std::string& sub : subs) fs::create_directories(partial / camera / sub);
   return partial;
 }
 
@@ -50,12 +55,40 @@ struct CameraJob {
   std::vector<std::vector<nlohmann::json>> lines;
 };
 
-/// Labels one frame with a worker's renderer. Returns the render time in seconds.
-double LabelFrame(const SessionReader& session, const std::vector<LabelObject>& objects, Renderer& renderer,
-                  const std::vector<MeshHandle>& handles, CameraJob& job, int64_t index, const LabelOptions& options,
-                  const fs::path& out) {
+/// What a worker keeps between frames: its renderer, the uploaded meshes and the render buffers.
+struct Worker {
+  Renderer& renderer;
+  const std::vector<MeshHandle>& handles;
+  RenderOutput render;
+  LabelStageSeconds wall, cpu;
+};
+
+double ThreadCpuSeconds() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
+/// Wall and thread-CPU clocks of one worker, read at each stage boundary.
+struct StageClock {
+  Clock::time_point wall = Clock::now();
+  double cpu = ThreadCpuSeconds();
+
+  /// Adds the time since the last lap to the stage (a member pointer of LabelStageSeconds).
+  void Lap(Worker& worker, double LabelStageSeconds::*stage) {
+    const auto wall_now = Clock::now();
+    const double cpu_now = ThreadCpuSeconds();
+    worker.wall.*stage += std::chrono::duration<double>(wall_now - wall).count();
+    worker.cpu.*stage += cpu_now - cpu;
+    wall = wall_now, cpu = cpu_now;
+  }
+};
+
+/// Labels one frame with a worker's renderer, adding its time per stage to worker.seconds.
+void LabelFrame(const SessionReader& session, const std::vector<LabelObject>& objects, Worker& worker, CameraJob& job,
+                int64_t index, const LabelOptions& options, const fs::path& out) {
   const CameraFrameEntry& entry = session.frame(job.camera, index);
-  if (!entry.color_present && !entry.depth_present) return 0.0;
+  if (!entry.color_present && !entry.depth_present) return;
   const PoseChain& chain = *job.chain;
   std::vector<InstanceResult> results(chain.instances().size());
   std::vector<RenderItem> items;
@@ -65,43 +98,52 @@ double LabelFrame(const SessionReader& session, const std::vector<LabelObject>& 
     results[i].pose = chain.Lookup(i, entry.record.stamp_ns);
     if (!results[i].pose.T_camera_mesh) continue;
     const auto object_index = static_cast<size_t>(results[i].instance->object - objects.data());
-    items.push_back({handles[object_index], *results[i].pose.T_camera_mesh, results[i].instance->instance_id});
+    items.push_back({worker.handles[object_index], *results[i].pose.T_camera_mesh, results[i].instance->instance_id});
     result_of_item.push_back(i);
   }
-  const auto t0 = Clock::now();
-  const RenderOutput render = renderer.Render(chain.camera(), items);
-  const double render_s = SecondsSince(t0);
+  StageClock clock;
+  worker.renderer.Render(chain.camera(), items, worker.render);
+  clock.Lap(worker, &LabelStageSeconds::render);
   const bool use_depth = entry.depth_present && job.depth_registered;
   const DepthImage depth = use_depth ? session.LoadDepth(job.camera, index) : DepthImage();
+  const bool overlay = options.output.write_overlay && entry.color_present;
+  const cv::Mat color = overlay ? session.LoadColor(job.camera, index) : cv::Mat();
+  clock.Lap(worker, &LabelStageSeconds::read_depth);
   const std::vector<ObjectLabels> labels =
-      ComputeObjectLabels(render, chain.camera(), use_depth ? &depth : nullptr, options.visibility);
+      ComputeObjectLabels(worker.render, chain.camera(), use_depth ? &depth : nullptr, options.visibility);
+  std::vector<PackedMasks> packed(options.output.write_masks ? labels.size() : 0);
   for (size_t k = 0; k < result_of_item.size(); ++k) {
     InstanceResult& r = results[result_of_item[k]];
     r.labels = &labels[k];
     if (labels[k].stats.outside_image) r.pose.flags.push_back("outside_image");
+    if (!options.output.write_masks) continue;
+    packed[k] = PackMasks(labels[k].masks);
+    r.packed = &packed[k];
   }
-  const bool overlay = options.output.write_overlay && entry.color_present;
-  WriteFrameImages(out, job.camera, index, render, results, overlay ? session.LoadColor(job.camera, index) : cv::Mat(),
-                   options.output);
+  clock.Lap(worker, &LabelStageSeconds::labels);
+  WriteFrameImages(out, job.camera, index, worker.render, results, color, options.output);
+  clock.Lap(worker, &LabelStageSeconds::write);
   auto& lines = job.lines[static_cast<size_t>(index)];
   for (const InstanceResult& r : results) lines.push_back(LabelRecord(job.camera, index, entry.record, r, use_depth));
-  return render_s;
 }
 
-/// Runs `threads` workers, each with its own EGL context, over every (camera, frame). Rethrows the first
-/// error of any worker after all have stopped. Returns the summed render time.
-double RunWorkers(const SessionReader& session, const std::vector<LabelObject>& objects,
-                  const std::vector<Mesh>& meshes, std::vector<CameraJob>& jobs, const LabelOptions& options,
-                  const fs::path& out) {
+int WorkerCount(const LabelOptions& options, size_t work_items) {
+  const int threads =
+      options.threads > 0 ? options.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  return std::min<int>(threads, static_cast<int>(std::max<size_t>(work_items, 1)));
+}
+
+/// Runs the workers, each with its own EGL context, over every (camera, frame). Rethrows the first error
+/// of any worker after all have stopped. Fills the summary's stage times and thread count.
+void RunWorkers(const SessionReader& session, const std::vector<LabelObject>& objects, const std::vector<Mesh>& meshes,
+                std::vector<CameraJob>& jobs, const LabelOptions& options, const fs::path& out, LabelSummary& summary) {
   std::vector<std::pair<size_t, int64_t>> work;
   for (size_t j = 0; j < jobs.size(); ++j)
     for (int64_t i = 0; i < static_cast<int64_t>(jobs[j].lines.size()); ++i) work.emplace_back(j, i);
-  const int threads = options.threads > 0 ? options.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   std::atomic<size_t> next{0};
   std::atomic<bool> failed{false};
   std::exception_ptr error;
   std::mutex mutex;
-  double render_seconds = 0;
   auto run = [&] {
     try {
       const auto context = RenderContext::Create(options.context);
@@ -109,22 +151,24 @@ double RunWorkers(const SessionReader& session, const std::vector<LabelObject>& 
       Renderer renderer(*context, options.renderer);
       std::vector<MeshHandle> handles;
       for (const Mesh& m : meshes) handles.push_back(renderer.Upload(m));
-      double render_s = 0;
+      Worker worker{renderer, handles, {}, {}, {}};
       for (size_t w = next++; w < work.size() && !failed; w = next++)
-        render_s += LabelFrame(session, objects, renderer, handles, jobs[work[w].first], work[w].second, options, out);
+        LabelFrame(session, objects, worker, jobs[work[w].first], work[w].second, options, out);
       std::lock_guard lock(mutex);
-      render_seconds += render_s;
+      summary.stages += worker.wall;
+      summary.stages_cpu += worker.cpu;
     } catch (...) {
       std::lock_guard lock(mutex);
       if (!error) error = std::current_exception();
       failed = true;
     }
   };
+  summary.threads = WorkerCount(options, work.size());
   std::vector<std::thread> pool;
-  for (int t = 0; t < std::min<int>(threads, static_cast<int>(std::max<size_t>(work.size(), 1))); ++t) pool.emplace_back(run);
+  for (int t = 0; t < summary.threads; ++t) pool.emplace_back(run);
   for (std::thread& t : pool) t.join();
   if (error) std::rethrow_exception(error);
-  return render_seconds;
+  summary.render_seconds = summary.stages.render;
 }
 
 void WriteLines(const std::vector<CameraJob>& jobs, const fs::path& file, LabelSummary& summary) {
@@ -153,6 +197,10 @@ void WriteLines(const std::vector<CameraJob>& jobs, const fs::path& file, LabelS
   if (!jsonl) throw InputError(file.string(), "could not write (disk full or not writable?)");
 }
 
+nlohmann::json StagesJson(const LabelStageSeconds& s) {
+  return {{"render", s.render}, {"read_depth", s.read_depth}, {"labels", s.labels}, {"write", s.write}};
+}
+
 nlohmann::json SummaryJson(const LabelSummary& s, const SessionReader& session) {
   return {{"session", fs::absolute(session.dir()).string()},
           {"complete", s.complete},
@@ -163,7 +211,10 @@ nlohmann::json SummaryJson(const LabelSummary& s, const SessionReader& session) 
           {"frames_flagged", s.frames_flagged},
           {"flag_counts", s.flag_counts},
           {"seconds", s.seconds},
-          {"render_seconds", s.render_seconds}};
+          {"render_seconds", s.render_seconds},
+          {"threads", s.threads},
+          {"stage_seconds", StagesJson(s.stages)},
+          {"stage_cpu_seconds", StagesJson(s.stages_cpu)}};
 }
 
 /// Moves the finished output into place: the old output is removed only once the new one is whole.
@@ -173,6 +224,11 @@ void Publish(const fs::path& partial, const fs::path& out) {
 }
 
 }  // namespace
+
+LabelStageSeconds& LabelStageSeconds::operator+=(const LabelStageSeconds& o) {
+  render += o.render, read_depth += o.read_depth, labels += o.labels, write += o.write;
+  return *this;
+}
 
 void LabelOptions::check() const {
   if (out_dir.empty()) throw InputError("label", "no output folder given (--out)");
@@ -201,9 +257,9 @@ LabelSummary LabelSession(const SessionReader& session, const std::vector<LabelO
     job.lines.resize(static_cast<size_t>(session.frame_count(camera)));
     jobs.push_back(std::move(job));
   }
-  const fs::path partial = PrepareOutput(options.out_dir, cameras);
+  const fs::path partial = PrepareOutput(options.out_dir, cameras, options.output);
   LabelSummary summary;
-  summary.render_seconds = RunWorkers(session, objects, meshes, jobs, options, partial);
+  RunWorkers(session, objects, meshes, jobs, options, partial, summary);
   WriteLines(jobs, partial / "labels.jsonl", summary);
   summary.seconds = SecondsSince(start);
   summary.complete = true;

@@ -32,6 +32,17 @@ struct LabelOptions {
   void check() const;
 };
 
+/// Where the workers' time went, in seconds summed over workers: wall time, or the CPU time of the
+/// worker threads themselves (llvmpipe's own rasteriser threads, if any, are not in the latter).
+struct LabelStageSeconds {
+  double render = 0;      ///< Renderer::Render (rasterisation, readback, the combined z-buffer)
+  double read_depth = 0;  ///< loading the measured depth (and the colour for an overlay)
+  double labels = 0;      ///< masks and statistics (ComputeObjectLabels) and packing the masks
+  double write = 0;       ///< encoding and writing the image files of the frame
+  double total() const { return render + read_depth + labels + write; }
+  LabelStageSeconds& operator+=(const LabelStageSeconds& o);
+};
+
 struct LabelSummary {
   int64_t frames = 0;             ///< camera records labelled (colour or depth present)
   int64_t frames_skipped = 0;     ///< records whose image files are missing
@@ -40,7 +51,10 @@ struct LabelSummary {
   int64_t frames_flagged = 0;     ///< frames with at least one flagged instance
   std::map<std::string, int64_t> flag_counts;
   double seconds = 0;
-  double render_seconds = 0;      ///< summed over workers
+  double render_seconds = 0;      ///< summed over workers (= stages.render)
+  LabelStageSeconds stages;       ///< wall time per stage, summed over workers
+  LabelStageSeconds stages_cpu;   ///< CPU time of the worker threads per stage
+  int threads = 0;                ///< worker threads used
   std::filesystem::path out_dir;
   bool complete = false;
 };

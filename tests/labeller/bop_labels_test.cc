@@ -1,6 +1,7 @@
 // Real data through the whole labelling path: `import bop` of LM-O scene 2, then the labeller with the
 // session's own objects.yaml. Every object of the 10 frames must match BOP's scene_gt_info.json:
-// bbox_obj within 2 px, px_count_all within 3%.
+// bbox_obj within 2 px, px_count_all within 3%. The packed mask files must give back the full-size
+// BOP-style masks written beside them, bit for bit.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -25,6 +26,7 @@ TEST(LabellerBop, ImportedSceneMatchesSceneGtInfo) {
   options.out_dir = dir / "L";
   options.threads = 2;
   options.output.write_overlay = true;
+  options.output.write_bop_masks = true;
   const LabelSummary summary = LabelSession(session, cli::LoadObjectsYaml(dir / "S" / "objects.yaml"), Rig{}, options);
   EXPECT_EQ(summary.frames, 10);
 
@@ -33,8 +35,9 @@ TEST(LabellerBop, ImportedSceneMatchesSceneGtInfo) {
   const auto scene_info = nlohmann::json::parse(info_file);
   // labels.jsonl records by (im_id, body).
   std::map<std::pair<std::string, std::string>, nlohmann::json> records;
-  for (const auto& r : testing::ReadJsonLines(dir / "L" / "labels.jsonl"))
-    records[{r["source_id"].get<std::string>(), r["body"].get<std::string>()}] = r;
+  const std::vector<nlohmann::json> lines = testing::ReadJsonLines(dir / "L" / "labels.jsonl");
+  for (const auto& r : lines) records[{r["source_id"].get<std::string>(), r["body"].get<std::string>()}] = r;
+  EXPECT_GT(testing::CheckPackedMasks(dir / "L", lines), 50);
   int compared = 0;
   for (const std::string im_id : {"3", "8", "17", "27", "36", "38", "39", "41", "47", "58"}) {
     std::map<int, int> seen;

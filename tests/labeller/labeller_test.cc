@@ -63,14 +63,43 @@ TEST(Labeller, PoseConventionsEndToEnd) {
   cv::projectPoints(std::vector<cv::Point3d>{{kMarker_mesh.x(), kMarker_mesh.y(), kMarker_mesh.z()}},
                     cv::Vec3d(rvec.x(), rvec.y(), rvec.z()), cv::Vec3d(t_m.x(), t_m.y(), t_m.z()),
                     cv::Matx33d(cam.fx, 0, cam.cx, 0, cam.fy, cam.cy, 0, 0, 1), cv::noArray(), expected);
-  const cv::Mat mask = cv::imread((dir / "L" / "cam" / "mask" / "000000_000001.png").string(), cv::IMREAD_UNCHANGED);
-  ASSERT_FALSE(mask.empty());
-  const cv::Moments m = cv::moments(mask, true);
+  ASSERT_TRUE(r.contains("mask_rect")) << r.dump();
+  const auto& mr = r["mask_rect"];
+  const PixelRect rect{mr[0], mr[1], mr[2], mr[3]};
+  const ObjectMasks masks = ReadMaskFile(dir / "L" / "cam" / "mask_bits" / "000000_000001.png", rect, false);
+  const Image<uint8_t> amodal = ToFullImage(masks.amodal, rect, cam.width, cam.height);
+  const cv::Moments m =
+      cv::moments(cv::Mat(cam.height, cam.width, CV_8UC1, const_cast<uint8_t*>(amodal.data.data())), true);
   ASSERT_GT(m.m00, 0);
   EXPECT_NEAR(m.m10 / m.m00, expected[0].x, 0.5);
   EXPECT_NEAR(m.m01 / m.m00, expected[0].y, 0.5);
+  // Default outputs: no BOP-style full-size masks.
+  EXPECT_FALSE(std::filesystem::exists(dir / "L" / "cam" / "mask"));
   EXPECT_TRUE(std::filesystem::exists(dir / "L" / "cam" / "overlay" / "000000.png"));
   EXPECT_TRUE(std::filesystem::exists(dir / "L" / "cam" / "depth" / "000000.exr"));
+  std::filesystem::remove_all(dir);
+}
+
+TEST(Labeller, PackedMasksEqualTheBopStyleMasks) {
+  // Measured depth 0.7 m (in front of the marker at ~0.8 m: an occluder) in even columns, missing in odd
+  // ones: the measured-depth mask keeps the odd columns only, and all three masks must come back from
+  // the packed file exactly as the full-size files have them.
+  const auto dir = FreshDir("packed");
+  const testing::SyntheticRig rig;
+  const PinholeCamera cam = testing::TestCamera();
+  cv::Mat depth(cam.height, cam.width, CV_16UC1, cv::Scalar(0));
+  for (int u = 0; u < cam.width; u += 2) depth.col(u).setTo(700);
+  rig.WriteSession(dir / "S", 2, -1, -1, depth);
+  LabelOptions options = Options(dir / "L");
+  options.output.write_bop_masks = true;
+  LabelSession(SessionReader::Open(dir / "S"), {MarkerObject(dir, rig)}, Rig{}, options);
+  const auto lines = ReadJsonLines(dir / "L" / "labels.jsonl");
+  ASSERT_EQ(lines.size(), 2u);
+  EXPECT_EQ(lines[0]["visib_source"], "measured_depth");
+  EXPECT_EQ(testing::CheckPackedMasks(dir / "L", lines), 2);
+  const int all = lines[0]["px_count_all"], visib = lines[0]["px_count_visib"];
+  EXPECT_GT(visib, 0);
+  EXPECT_LT(visib, all);
   std::filesystem::remove_all(dir);
 }
 

@@ -1,12 +1,18 @@
 #pragma once
 // A tiny synthetic rig written as a real session: a camera on a tracked body looking at one tracked
 // object, with every transform known, so label outputs can be checked against hand-composed poses.
+#include <algorithm>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
+#include <gtest/gtest.h>
+#include <opencv2/imgcodecs.hpp>
+
+#include "label/mask_file.h"
 #include "session/writer.h"
 
 namespace mocap::testing {
@@ -39,8 +45,9 @@ struct SyntheticRig {
 
   /// Writes `frames` camera frames at 30 Hz and 100 Hz tracker samples of both bodies. Object samples
   /// in [dropout_begin_ns, dropout_end_ns) are written as missing.
+  /// `depth`: the 16-bit depth image (mm) of every frame, registered to colour; empty = none.
   void WriteSession(const std::filesystem::path& dir, int frames, int64_t dropout_begin_ns = -1,
-                    int64_t dropout_end_ns = -1) const {
+                    int64_t dropout_end_ns = -1, const cv::Mat& depth = cv::Mat()) const {
     SessionManifest manifest;
     manifest.source = "test";
     CameraStreamInfo cam;
@@ -64,7 +71,7 @@ struct SyntheticRig {
       CameraFrameRecord record;
       record.frame = i;
       record.stamp_ns = 20 * kMs + i * 33 * kMs;
-      writer->WriteCameraFrame("cam", record, color, cv::Mat());
+      writer->WriteCameraFrame("cam", record, color, depth);
     }
     writer->Close();
   }
@@ -75,6 +82,34 @@ inline std::vector<nlohmann::json> ReadJsonLines(const std::filesystem::path& fi
   std::vector<nlohmann::json> lines;
   for (std::string line; std::getline(in, line);) lines.push_back(nlohmann::json::parse(line));
   return lines;
+}
+
+/// Compares one mask recovered from the packed file with the full-size 0/255 PNG at `full_png`.
+inline void ExpectSameMask(const std::vector<uint8_t>& mask, const PixelRect& rect, const std::filesystem::path& full_png) {
+  const cv::Mat full = cv::imread(full_png.string(), cv::IMREAD_UNCHANGED);
+  ASSERT_FALSE(full.empty()) << full_png;
+  const Image<uint8_t> recovered = ToFullImage(mask, rect, full.cols, full.rows);
+  ASSERT_TRUE(full.isContinuous());
+  EXPECT_TRUE(std::equal(recovered.data.begin(), recovered.data.end(), full.ptr<uint8_t>(0))) << full_png;
+}
+
+/// Every record with a mask: the three masks of its packed file equal the BOP-style files.
+inline int CheckPackedMasks(const std::filesystem::path& labels, const std::vector<nlohmann::json>& records) {
+  int checked = 0;
+  for (const auto& r : records) {
+    if (!r.contains("mask_rect") || r["mask_rect"].is_null()) continue;
+    const auto& m = r["mask_rect"];
+    const PixelRect rect{m[0], m[1], m[2], m[3]};
+    char stem[32];
+    std::snprintf(stem, sizeof(stem), "%06d_%06d.png", r["index"].get<int>(), r["instance"].get<int>());
+    const auto camera = labels / r["camera"].get<std::string>();
+    const ObjectMasks masks = ReadMaskFile(camera / "mask_bits" / stem, rect, r["visib_source"] == "measured_depth");
+    ExpectSameMask(masks.amodal, rect, camera / "mask" / stem);
+    ExpectSameMask(masks.visible_model, rect, camera / "mask_visib" / stem);
+    if (!masks.visible_measured.empty()) ExpectSameMask(masks.visible_measured, rect, camera / "mask_visib_depth" / stem);
+    ++checked;
+  }
+  return checked;
 }
 
 inline std::filesystem::path FreshDir(const std::string& name) {
