@@ -13,6 +13,7 @@ const std::vector<Command>& AllCommands() {
       {"ndi-emulator", "emulate an NDI tracker (Combined API) on loopback", RunNdiEmulator},
       {"sim", "simulated rig: object meshes, scenario checks", RunSim},
       {"devices", "list attached Kinects, serial adapters and network trackers", RunDevices},
+      {"capture", "capture daemon and its control: daemon, start, stop, status", RunCapture},
   };
   return commands;
 }

@@ -10,5 +10,6 @@ int RunLabel(int argc, char** argv);
 int RunNdiEmulator(int argc, char** argv);
 int RunSim(int argc, char** argv);
 int RunDevices(int argc, char** argv);
+int RunCapture(int argc, char** argv);
 
 }  // namespace mocap::cli
