@@ -10,6 +10,7 @@
 #include <thread>
 
 #include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
 
 #include "../kinect/subprocess.h"
 #include "../kinect/tum_recording.h"
@@ -147,7 +148,9 @@ void ExpectCameraMatchesReplay(const SessionReader& reader, const std::vector<te
     const CameraFrameRecord& r = reader.frame("kinect1", i).record;
     EXPECT_EQ(r.device_ticks, static_cast<int64_t>(recorded[static_cast<size_t>(first + i)].ticks)) << i;
     EXPECT_EQ(r.frame, reader.frame("kinect1", 0).record.frame + i);
-    if (i > 0) EXPECT_GT(r.stamp_ns, reader.frame("kinect1", i - 1).record.stamp_ns);
+    if (i > 0) {
+      EXPECT_GT(r.stamp_ns, reader.frame("kinect1", i - 1).record.stamp_ns);
+    }
   }
   // Host stamps follow the device clock (replay sleeps reproduce the 33 ms spacing, late on a busy host).
   const double span_s = (reader.frame("kinect1", n - 1).record.stamp_ns - reader.frame("kinect1", 0).record.stamp_ns) * 1e-9;
@@ -156,8 +159,7 @@ void ExpectCameraMatchesReplay(const SessionReader& reader, const std::vector<te
   for (const int64_t i : {int64_t{0}, n - 1}) {
     const testing::TumFrame& f = frames[static_cast<size_t>(first + i)];
     EXPECT_EQ(cv::norm(reader.LoadColor("kinect1", i), f.bgr, cv::NORM_INF), 0.0) << "colour of frame " << i;
-    cv::Mat depth_mm;
-    reader.LoadDepth("kinect1", i).convertTo(depth_mm, CV_16UC1, 1000.0);  // stored in mm: exact
+    const cv::Mat depth_mm = cv::imread(reader.DepthPath("kinect1", i).string(), cv::IMREAD_ANYDEPTH);  // mm
     EXPECT_EQ(cv::norm(depth_mm, ExpectedDepthMm(f.depth_m), cv::NORM_INF), 0.0) << "depth of frame " << i;
   }
 }
