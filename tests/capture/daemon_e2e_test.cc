@@ -71,9 +71,10 @@ std::pair<int, nlohmann::json> Cli(const fs::path& dir, std::vector<std::string>
   args.insert(args.begin(), MOCAPLABEL_EXE);
   args.push_back("--json");
   ChildProcess cli(args, {}, dir / "cli.log");
-  const std::optional<std::string> line = cli.ReadLine(30000);
+  std::string out;  // the whole of stdout: one JSON document, possibly over several lines
+  while (const std::optional<std::string> line = cli.ReadLine(30000)) out += *line + "\n";
   const std::optional<int> status = cli.Wait(30000);
-  return {status.value_or(-1), line ? nlohmann::json::parse(*line, nullptr, false) : nlohmann::json()};
+  return {status.value_or(-1), nlohmann::json::parse(out, nullptr, false)};
 }
 
 nlohmann::json Status(const fs::path& dir, int port) {
