@@ -37,11 +37,7 @@ fs::path FreshSession(const std::string& name) {
 SessionManifest ManifestOf(const std::vector<CaptureSource*>& sources) {
   SessionManifest manifest;
   manifest.source = "bench";
-  for (CaptureSource* source : sources) {
-    const StreamInfo info = source->stream_info();
-    if (const auto* camera = std::get_if<CameraStreamInfo>(&info)) manifest.cameras.push_back(*camera);
-    else manifest.trackers.push_back(std::get<TrackerStreamInfo>(info));
-  }
+  for (const CaptureSource* source : sources) AddStream(manifest, source->stream_info());
   return manifest;
 }
 

@@ -119,11 +119,7 @@ void CaptureDaemon::PushEvent(EventRecord&& event) {
 SessionManifest CaptureDaemon::BuildManifest() const {
   SessionManifest manifest;
   manifest.source = "capture";
-  for (const auto& source : sources_) {
-    const StreamInfo info = source->stream_info();
-    if (const auto* camera = std::get_if<CameraStreamInfo>(&info)) manifest.cameras.push_back(*camera);
-    else manifest.trackers.push_back(std::get<TrackerStreamInfo>(info));
-  }
+  for (const auto& source : sources_) AddStream(manifest, source->stream_info());
   manifest.extra = {{"rig", options_.rig_name}};
   return manifest;
 }

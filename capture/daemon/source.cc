@@ -4,6 +4,11 @@
 
 namespace mocap::capture {
 
+void AddStream(SessionManifest& manifest, const StreamInfo& info) {
+  if (const auto* camera = std::get_if<CameraStreamInfo>(&info)) manifest.cameras.push_back(*camera);
+  else manifest.trackers.push_back(std::get<TrackerStreamInfo>(info));
+}
+
 CaptureSource::~CaptureSource() = default;
 
 void CaptureSource::Open() {

@@ -49,6 +49,9 @@ class CaptureSink {
 /// The stream a source feeds, for the session manifest: exactly one of the two.
 using StreamInfo = std::variant<CameraStreamInfo, TrackerStreamInfo>;
 
+/// Adds a source's stream to a manifest (cameras[] or trackers[]).
+void AddStream(SessionManifest& manifest, const StreamInfo& info);
+
 class CaptureSource {
  public:
   virtual ~CaptureSource();

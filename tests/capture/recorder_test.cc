@@ -26,11 +26,7 @@ using namespace std::chrono_literals;
 SessionManifest ManifestOf(const std::vector<const CaptureSource*>& sources) {
   SessionManifest manifest;
   manifest.source = "capture";
-  for (const CaptureSource* source : sources) {
-    const StreamInfo info = source->stream_info();
-    if (const auto* camera = std::get_if<CameraStreamInfo>(&info)) manifest.cameras.push_back(*camera);
-    else manifest.trackers.push_back(std::get<TrackerStreamInfo>(info));
-  }
+  for (const CaptureSource* source : sources) AddStream(manifest, source->stream_info());
   return manifest;
 }
 
