@@ -181,6 +181,7 @@ RecorderSummary Recorder::Stop() {
     FlushDropEvents(true);
     if (!failed_) {
       writer_->Close();
+      std::lock_guard lock(mutex_);
       complete_ = true;
     }
   } catch (const std::exception& e) {
