@@ -15,6 +15,7 @@ const std::vector<Command>& AllCommands() {
       {"demo", "the whole tool on the simulated rig: simulate, label, score against the truth", RunDemo},
       {"devices", "list attached Kinects, serial adapters and network trackers", RunDevices},
       {"validate", "check every label against the measured depth (SegICP): verdicts and a report", RunValidate},
+      {"capture", "capture daemon and its control: daemon, start, stop, status", RunCapture},
   };
   return commands;
 }

@@ -12,5 +12,6 @@ int RunSim(int argc, char** argv);
 int RunDevices(int argc, char** argv);
 int RunValidate(int argc, char** argv);
 int RunDemo(int argc, char** argv);
+int RunCapture(int argc, char** argv);
 
 }  // namespace mocap::cli

@@ -1,0 +1,136 @@
+#include "capture/daemon/control_server.h"
+
+#include <arpa/inet.h>
+
+#include "core/check.h"
+// Last: it pulls in <resolv.h>, whose `_res` macro breaks Eigen headers included after it.
+#include <httplib.h>
+
+namespace mocap::capture {
+
+void ControlServerOptions::check() const {
+  in_addr parsed{};
+  if (::inet_pton(AF_INET, bind.c_str(), &parsed) != 1)
+    throw InputError("control bind '" + bind + "'", "is not an IPv4 address (e.g. 127.0.0.1)");
+  if (port < 0 || port > 65535) throw InputError("control port", Str(port, " is not in 0..65535"));
+  if (!IsLoopbackAddress(bind) && !allow_remote)
+    throw InputError("control bind '" + bind + "'",
+                     "is not a loopback address: pass --allow-remote and a --token to serve other hosts");
+  if (allow_remote && token.empty())
+    throw InputError("--allow-remote", "needs a --token: remote clients must authenticate");
+}
+
+bool IsLoopbackAddress(const std::string& address) {
+  if (address == "::1") return true;
+  const std::string v4 = address.rfind("::ffff:", 0) == 0 ? address.substr(7) : address;
+  in_addr parsed{};
+  if (::inet_pton(AF_INET, v4.c_str(), &parsed) != 1) return false;
+  return (ntohl(parsed.s_addr) >> 24) == 127;
+}
+
+AccessDecision CheckAccess(const ControlServerOptions& options, const std::string& remote_addr,
+                           const std::string& authorization_header) {
+  if (!options.allow_remote && !IsLoopbackAddress(remote_addr))
+    return {403, "control API: clients from " + remote_addr +
+                     " are refused (loopback only; start the daemon with --allow-remote and a --token)"};
+  if (!options.token.empty() && authorization_header != "Bearer " + options.token)
+    return {401, "control API: missing or wrong token (send 'Authorization: Bearer <token>')"};
+  return {};
+}
+
+namespace {
+
+void Reply(httplib::Response& res, int status, const nlohmann::json& body) {
+  res.status = status;
+  res.set_content(body.dump(), "application/json");
+}
+
+void ReplyError(httplib::Response& res, int status, const std::string& error) { Reply(res, status, {{"error", error}}); }
+
+// The session name of a /start body: {"name": "..."} and nothing else that we would ignore silently.
+std::string SessionNameFromBody(const std::string& body) {
+  nlohmann::json request;
+  try {
+    request = nlohmann::json::parse(body);
+  } catch (const nlohmann::json::parse_error& e) {
+    throw InputError("POST /start body", Str("is not JSON (", e.what(), "); send {\"name\": \"SESSION\"}"));
+  }
+  if (!request.is_object() || !request.contains("name") || !request["name"].is_string())
+    throw InputError("POST /start body", "needs a string field \"name\": {\"name\": \"SESSION\"}");
+  for (const auto& [key, value] : request.items())
+    if (key != "name") throw InputError("POST /start body", "unknown field \"" + key + "\"");
+  return request["name"].get<std::string>();
+}
+
+// Runs a handler, mapping the daemon's exceptions onto HTTP statuses.
+template <typename Fn>
+void Guarded(httplib::Response& res, Fn&& fn) {
+  try {
+    Reply(res, 200, fn());
+  } catch (const StateError& e) {
+    ReplyError(res, 409, e.what());
+  } catch (const InputError& e) {
+    ReplyError(res, 400, e.what());
+  } catch (const std::exception& e) {
+    ReplyError(res, 500, e.what());
+  }
+}
+
+}  // namespace
+
+ControlServer::ControlServer(CaptureDaemon& daemon, const ControlServerOptions& options)
+    : daemon_(daemon), options_(options), server_(std::make_unique<httplib::Server>()) {
+  options_.check();
+  AddRoutes();
+  if (options_.port == 0) {
+    port_ = server_->bind_to_any_port(options_.bind);
+    if (port_ < 0) throw InputError("control " + options_.bind, "cannot bind any port");
+  } else {
+    if (!server_->bind_to_port(options_.bind, options_.port))
+      throw InputError(Str("control ", options_.bind, ":", options_.port),
+                       "cannot bind (in use? another daemon running?): choose another port");
+    port_ = options_.port;
+  }
+  thread_ = std::thread([this] { server_->listen_after_bind(); });
+  // The socket is bound and listening already (connections wait in its backlog); this only makes
+  // Stop() right after construction well defined.
+  while (!server_->is_running()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+}
+
+ControlServer::~ControlServer() { Stop(); }
+
+void ControlServer::Stop() {
+  if (server_) server_->stop();
+  if (thread_.joinable()) thread_.join();
+}
+
+void ControlServer::AddRoutes() {
+  server_->set_pre_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
+    const AccessDecision access = CheckAccess(options_, req.remote_addr, req.get_header_value("Authorization"));
+    if (access.status == 0) return httplib::Server::HandlerResponse::Unhandled;
+    ReplyError(res, access.status, access.error);
+    return httplib::Server::HandlerResponse::Handled;
+  });
+  server_->Get("/status", [this](const httplib::Request&, httplib::Response& res) {
+    Guarded(res, [&] { return daemon_.Status(); });
+  });
+  server_->Post("/start", [this](const httplib::Request& req, httplib::Response& res) {
+    Guarded(res, [&] { return daemon_.StartSession(SessionNameFromBody(req.body)); });
+  });
+  server_->Post("/stop", [this](const httplib::Request&, httplib::Response& res) {
+    Guarded(res, [&] { return daemon_.StopSession(); });
+  });
+  for (const char* path : {"/start", "/stop"})
+    server_->Get(path, [path](const httplib::Request&, httplib::Response& res) {
+      ReplyError(res, 405, Str("GET ", path, ": use POST"));
+    });
+  server_->Post("/status", [](const httplib::Request&, httplib::Response& res) {
+    ReplyError(res, 405, "POST /status: use GET");
+  });
+  server_->set_error_handler([](const httplib::Request& req, httplib::Response& res) {
+    if (!res.body.empty()) return;  // already an error of ours
+    ReplyError(res, res.status, Str(req.method, " ", req.path, ": no such endpoint (GET /status, POST /start, POST /stop)"));
+  });
+}
+
+}  // namespace mocap::capture

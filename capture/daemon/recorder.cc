@@ -1,0 +1,221 @@
+#include "capture/daemon/recorder.h"
+
+#include <cstdio>
+
+#include "core/check.h"
+
+namespace mocap::capture {
+
+void RecorderOptions::check() const {
+  if (session_dir.empty()) throw InputError("RecorderOptions.session_dir", "is empty: name the session folder");
+  if (frame_queue < 1 || frame_queue > 4096) throw InputError("RecorderOptions.frame_queue", "must be in 1..4096");
+  if (sample_queue < 1 || sample_queue > 1'000'000)
+    throw InputError("RecorderOptions.sample_queue", "must be in 1..1000000");
+  if (drop_event_interval_ms < 1) throw InputError("RecorderOptions.drop_event_interval_ms", "must be >= 1");
+  writer.check();
+}
+
+nlohmann::json RecorderSummary::ToJson() const {
+  nlohmann::json streams_json = nlohmann::json::object();
+  for (const auto& [name, c] : streams)
+    streams_json[name] = {{"received", c.received}, {"written", c.written}, {"dropped", c.dropped}};
+  return {{"session", session_dir.string()}, {"complete", complete},     {"error", error},
+          {"streams", streams_json},         {"events_written", events_written},
+          {"events_dropped", events_dropped}, {"duration_s", duration_ns * 1e-9}};
+}
+
+std::unique_ptr<Recorder> Recorder::Start(const RecorderOptions& options, const SessionManifest& manifest) {
+  options.check();
+  auto writer = SessionWriter::Create(options.session_dir, manifest, options.writer);
+  std::unique_ptr<Recorder> recorder(new Recorder(options, std::move(writer)));
+  for (const auto& camera : manifest.cameras) recorder->streams_[camera.name];
+  for (const auto& tracker : manifest.trackers) recorder->streams_[tracker.name];
+  recorder->frame_thread_ = std::thread([r = recorder.get()] { r->FrameLoop(); });
+  recorder->record_thread_ = std::thread([r = recorder.get()] { r->RecordLoop(); });
+  return recorder;
+}
+
+Recorder::Recorder(const RecorderOptions& options, std::unique_ptr<SessionWriter> writer)
+    : options_(options),
+      writer_(std::move(writer)),
+      frames_(static_cast<size_t>(options.frame_queue)),
+      records_(static_cast<size_t>(options.sample_queue)),
+      start_ns_(MonotonicNowNs()) {}
+
+Recorder::~Recorder() { Stop(); }
+
+StreamCounters& Recorder::counters(const std::string& stream) { return streams_[stream]; }
+
+void Recorder::PushFrame(CapturedFrame&& frame) {
+  const std::string camera = frame.camera;
+  const int64_t stamp_ns = frame.record.stamp_ns;
+  {
+    std::lock_guard lock(mutex_);
+    ++counters(camera).received;
+  }
+  if (!frames_.TryPush(std::move(frame))) CountDrop(camera, stamp_ns);
+}
+
+void Recorder::PushSample(CapturedSample&& sample) {
+  const std::string tracker = sample.tracker;
+  const int64_t stamp_ns = sample.record.stamp_ns;
+  {
+    std::lock_guard lock(mutex_);
+    ++counters(tracker).received;
+  }
+  if (!records_.TryPush(RecordItem(std::move(sample)))) CountDrop(tracker, stamp_ns);
+}
+
+void Recorder::PushEvent(EventRecord&& event) {
+  if (records_.TryPush(RecordItem(std::move(event)))) return;
+  std::lock_guard lock(mutex_);
+  ++events_dropped_;
+}
+
+// Counted at once; written as one "drop" event per stream per interval carrying the count (by the
+// writer threads, which also print it for whoever watches the daemon), and by Stop() at the latest.
+void Recorder::CountDrop(const std::string& stream, int64_t /*stamp_ns*/) {
+  std::lock_guard lock(mutex_);
+  ++counters(stream).dropped;
+  ++unreported_drops_[stream];
+}
+
+void Recorder::FlushDropEvents(bool final_flush) {
+  std::map<std::string, int64_t> pending;
+  const int64_t now_ns = MonotonicNowNs();
+  {
+    std::lock_guard lock(mutex_);
+    if (failed_ || unreported_drops_.empty()) return;
+    if (!final_flush && now_ns - last_drop_flush_ns_ < int64_t{options_.drop_event_interval_ms} * 1'000'000) return;
+    last_drop_flush_ns_ = now_ns;
+    pending.swap(unreported_drops_);
+  }
+  for (const auto& [stream, n] : pending) {
+    std::fprintf(stderr, "capture: %s: %lld item(s) dropped, the session writer is behind\n", stream.c_str(),
+                 static_cast<long long>(n));
+    EventRecord event{now_ns, "drop", stream,
+                      Str(n, " item(s) dropped: the session writer fell behind and the queue was full")};
+    if (final_flush) {
+      writer_->WriteEvent(event);
+      std::lock_guard lock(mutex_);
+      ++events_written_;
+    } else if (!records_.TryPush(RecordItem(std::move(event)))) {
+      std::lock_guard lock(mutex_);
+      unreported_drops_[stream] += n;  // no room now: with the next flush
+    }
+  }
+}
+
+void Recorder::Fail(const std::string& message) {
+  std::lock_guard lock(mutex_);
+  if (failed_) return;
+  error_ = message;
+  failed_ = true;
+  std::fprintf(stderr, "capture: session %s stopped: %s\n", options_.session_dir.c_str(), message.c_str());
+}
+
+void Recorder::FrameLoop() {
+  while (std::optional<CapturedFrame> frame = frames_.Pop()) {
+    if (failed_) {  // the session stopped on a write error: what is still queued is not written
+      std::lock_guard lock(mutex_);
+      ++counters(frame->camera).dropped;
+      continue;
+    }
+    try {
+      writer_->WriteCameraFrame(frame->camera, frame->record, frame->color, frame->depth);
+      {
+        std::lock_guard lock(mutex_);
+        ++counters(frame->camera).written;
+      }
+      FlushDropEvents(false);
+    } catch (const std::exception& e) {
+      Fail(e.what());
+      std::lock_guard lock(mutex_);
+      ++counters(frame->camera).dropped;
+    }
+  }
+}
+
+void Recorder::WriteRecord(RecordItem& item) {
+  if (auto* sample = std::get_if<CapturedSample>(&item)) {
+    writer_->WriteTrackerSample(sample->tracker, sample->record);
+    std::lock_guard lock(mutex_);
+    ++counters(sample->tracker).written;
+  } else {
+    writer_->WriteEvent(std::get<EventRecord>(item));
+    std::lock_guard lock(mutex_);
+    ++events_written_;
+  }
+}
+
+void Recorder::RecordLoop() {
+  while (std::optional<RecordItem> item = records_.Pop()) {
+    if (failed_) {
+      std::lock_guard lock(mutex_);
+      if (auto* sample = std::get_if<CapturedSample>(&*item)) ++counters(sample->tracker).dropped;
+      else ++events_dropped_;
+      continue;
+    }
+    try {
+      WriteRecord(*item);
+      FlushDropEvents(false);
+    } catch (const std::exception& e) {
+      Fail(e.what());
+    }
+  }
+}
+
+RecorderSummary Recorder::Stop() {
+  bool already_stopped = false;
+  {
+    std::lock_guard lock(mutex_);
+    already_stopped = stopped_;
+    stopped_ = true;
+  }
+  if (already_stopped) return Snapshot();
+  frames_.Stop();
+  records_.Stop();
+  if (frame_thread_.joinable()) frame_thread_.join();
+  if (record_thread_.joinable()) record_thread_.join();
+  try {
+    FlushDropEvents(true);
+    if (!failed_) {
+      writer_->Close();
+      std::lock_guard lock(mutex_);
+      complete_ = true;
+    }
+  } catch (const std::exception& e) {
+    Fail(e.what());
+  }
+  {
+    std::lock_guard lock(mutex_);
+    stop_ns_ = MonotonicNowNs();
+  }
+  return Snapshot();
+}
+
+RecorderSummary Recorder::Snapshot() const {
+  std::lock_guard lock(mutex_);
+  RecorderSummary summary;
+  summary.session_dir = options_.session_dir;
+  summary.complete = complete_;
+  summary.error = error_;
+  summary.streams = streams_;
+  summary.events_written = events_written_;
+  summary.events_dropped = events_dropped_;
+  summary.duration_ns = (stop_ns_ != 0 ? stop_ns_ : MonotonicNowNs()) - start_ns_;
+  return summary;
+}
+
+std::optional<std::string> Recorder::error() const {
+  std::lock_guard lock(mutex_);
+  if (!failed_) return std::nullopt;
+  return error_;
+}
+
+nlohmann::json Recorder::QueueStatus() const {
+  return {{"frames", {{"depth", frames_.size()}, {"high_water", frames_.high_water()}, {"capacity", frames_.capacity()}}},
+          {"records", {{"depth", records_.size()}, {"high_water", records_.high_water()}, {"capacity", records_.capacity()}}}};
+}
+
+}  // namespace mocap::capture

@@ -1,0 +1,70 @@
+#pragma once
+// The rig's device sources and the simulated sources, each behind CaptureSource (source.h) and made
+// by a factory returning unique_ptr.
+//
+// Kinect1 (libfreenect, capture/kinect): one record per colour + depth pair, stamped with the depth
+// image's host receive time; `frame` counts the pairs this source delivered (so a frame dropped later in
+// the pipeline shows as a skipped number). When the stream ends by itself (unplugged, USB error) the
+// source logs an "error" event, reopens the device with exponential backoff, logs "reconnect", and a
+// "gap" event with the first frame after it. Under the fakenect replay the end of the recording is the
+// end of the stream: it is logged and not reopened (reopening would replay the recording again).
+//
+// NDI (capture/ndi NdiClient): one record per body per tracker frame; client events become session
+// events: kGap -> "gap", kDisconnected -> "error", kReconnected -> "reconnect", damaged replies and
+// ERRORxx answers -> "error", system status changes -> "note".
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "capture/daemon/source.h"
+#include "capture/kinect/kinect1_device.h"
+#include "capture/ndi/client.h"
+#include "core/camera.h"
+#include "core/rigid3.h"
+
+namespace mocap::capture {
+
+struct Kinect1SourceOptions {
+  std::string stream = "kinect1";  ///< camera stream name in the session
+  Kinect1Options device;
+  std::optional<PinholeCamera> color_camera;  ///< calibrated colour intrinsics (else the depth image's)
+  std::string camera_body;                    ///< tracker body carrying the camera ("" if none)
+  Rigid3d T_body_camera;                      ///< mount: colour optical frame into the body frame
+  bool reconnect = true;                      ///< reopen the device when its stream ends (not for replays)
+  int reconnect_initial_ms = 200;             ///< backoff doubles from this ...
+  int reconnect_max_ms = 5000;                ///< ... up to this
+  void check() const;
+};
+std::unique_ptr<CaptureSource> CreateKinect1Source(const Kinect1SourceOptions& options);
+
+struct NdiSourceOptions {
+  std::string stream = "ndi";     ///< tracker stream name in the session
+  std::string model = "polaris";  ///< manifest model
+  ndi::NdiClientOptions client;
+  void check() const;
+};
+std::unique_ptr<CaptureSource> CreateNdiSource(const NdiSourceOptions& options);
+
+/// Simulated sources for benchmarks and tests of the pipeline: a moving test pattern (RGB + depth) and
+/// bodies on circles. rate_hz = 0 means unthrottled: as fast as the sink takes them, where a sink that
+/// reports back-pressure (`ready`) is waited for instead of overrun.
+struct SimulatedCameraOptions {
+  std::string stream = "simcam";
+  int width = 640, height = 480;
+  double rate_hz = 30;
+  int64_t max_frames = 0;  ///< 0: until stopped
+  void check() const;
+};
+struct SimulatedTrackerOptions {
+  std::string stream = "simtracker";
+  int bodies = 2;
+  double rate_hz = 400;
+  int64_t max_frames = 0;  ///< tracker frames (each gives `bodies` samples); 0: until stopped
+  void check() const;
+};
+/// Back-pressure for unthrottled simulated sources: true when the sink can take another item now.
+using ReadyFn = std::function<bool()>;
+std::unique_ptr<CaptureSource> CreateSimulatedCamera(const SimulatedCameraOptions& options, ReadyFn ready = {});
+std::unique_ptr<CaptureSource> CreateSimulatedTracker(const SimulatedTrackerOptions& options, ReadyFn ready = {});
+
+}  // namespace mocap::capture

@@ -1,0 +1,252 @@
+// mocaplabel capture daemon|start|stop|status: the capture daemon and its control over the local HTTP +
+// JSON API (docs/capture.md). The rig file's `capture:` section maps onto the daemon's options here.
+#include <CLI/CLI.hpp>
+#include <signal.h>
+
+#include <cstdio>
+#include <nlohmann/json.hpp>
+
+#include "capture/daemon/control_server.h"
+#include "capture/daemon/daemon.h"
+#include "capture/daemon/sources.h"
+#include "cli/commands.h"
+#include "cli/rig_yaml.h"
+#include "cli/yaml_util.h"
+#include "core/check.h"
+// Last: it pulls in <resolv.h>, whose `_res` macro breaks Eigen headers included after it.
+#include <httplib.h>
+
+namespace mocap::cli {
+namespace {
+
+namespace fs = std::filesystem;
+using capture::ControlServerOptions;
+
+struct CaptureRig {
+  capture::CaptureDaemonOptions daemon;
+  ControlServerOptions control;
+  std::optional<capture::NdiSourceOptions> tracker;
+  std::optional<capture::Kinect1SourceOptions> camera;
+};
+
+// "host:port" onto the client's TCP fields.
+void ParseEndpoint(const fs::path& file, const YAML::Node& node, ndi::NdiClientOptions& client) {
+  const std::string endpoint = node.as<std::string>();
+  const size_t colon = endpoint.rfind(':');
+  if (colon == std::string::npos || colon == 0) throw InputError(Where(file, node), "tcp: expected HOST:PORT, e.g. 192.168.1.50:8765");
+  client.host = endpoint.substr(0, colon);
+  try {
+    client.port = std::stoi(endpoint.substr(colon + 1));
+  } catch (const std::exception&) {
+    throw InputError(Where(file, node), "tcp: the port of '" + endpoint + "' is not a number");
+  }
+}
+
+capture::NdiSourceOptions TrackerFromYaml(const fs::path& file, const YAML::Node& node) {
+  capture::NdiSourceOptions t;
+  t.stream = Optional<std::string>(file, node, "name", t.stream);
+  t.model = Optional<std::string>(file, node, "model", t.model);
+  if (node["tcp"] && node["serial"]) throw InputError(Where(file, node), "tracker: give either tcp or serial, not both");
+  if (node["tcp"]) ParseEndpoint(file, node["tcp"], t.client);
+  else if (node["serial"]) {
+    t.client.transport = ndi::NdiClientOptions::TransportKind::kSerial;
+    t.client.serial_device = Required<std::string>(file, node, "serial");
+    t.client.serial_baud = Optional<int>(file, node, "baud", t.client.serial_baud);
+  } else {
+    throw InputError(Where(file, node), "tracker: needs tcp: HOST:PORT or serial: DEVICE");
+  }
+  t.client.poll_rate_hz = Optional<double>(file, node, "rate_hz", t.client.poll_rate_hz);
+  const std::string protocol = Optional<std::string>(file, node, "protocol", "bx");
+  if (protocol != "bx" && protocol != "tx") throw InputError(Where(file, node), "tracker.protocol must be bx or tx");
+  t.client.use_bx = protocol == "bx";
+  if (const YAML::Node tools = node["tools"]) {
+    for (const auto& tool : tools)
+      t.client.tools.push_back({Required<std::string>(file, tool, "name"), Optional<std::string>(file, tool, "rom", ""),
+                                ndi::ToolMode::kDynamic});
+  }
+  return t;
+}
+
+capture::Kinect1SourceOptions CameraFromYaml(const fs::path& file, const YAML::Node& node, const Rig& rig) {
+  capture::Kinect1SourceOptions c;
+  const std::string model = Optional<std::string>(file, node, "model", "kinect1");
+  if (model != "kinect1") throw InputError(Where(file, node), "camera.model '" + model + "': only kinect1 is supported by the daemon");
+  c.stream = Optional<std::string>(file, node, "name", c.stream);
+  c.device.device_index = Optional<int>(file, node, "index", 0);
+  c.device.camera_serial = Optional<std::string>(file, node, "serial", "");
+  if (const RigCamera* calibrated = rig.Find(c.stream)) {  // the rig's calibration of this camera
+    c.color_camera = calibrated->color_camera;
+    c.camera_body = calibrated->body.value_or("");
+    c.T_body_camera = calibrated->T_body_camera.value_or(Rigid3d());
+  }
+  return c;
+}
+
+CaptureRig LoadCaptureRig(const fs::path& file) {
+  const YAML::Node root = LoadYamlFile(file);
+  const YAML::Node node = root["capture"];
+  if (!node) throw InputError(file.string(), "has no 'capture:' section (docs/capture.md)");
+  CaptureRig rig;
+  const Rig calibration = LoadRigYaml(file);
+  rig.daemon.rig_name = calibration.name;
+  fs::path sessions = Optional<std::string>(file, node, "sessions_dir", "sessions");
+  rig.daemon.sessions_dir = sessions.is_absolute() ? sessions : file.parent_path() / sessions;
+  if (const YAML::Node control = node["control"]) {
+    rig.control.bind = Optional<std::string>(file, control, "bind", rig.control.bind);
+    rig.control.port = Optional<int>(file, control, "port", rig.control.port);
+  }
+  rig.daemon.recorder.frame_queue = Optional<int>(file, node, "frame_queue", rig.daemon.recorder.frame_queue);
+  rig.daemon.recorder.sample_queue = Optional<int>(file, node, "sample_queue", rig.daemon.recorder.sample_queue);
+  if (node["tracker"]) rig.tracker = TrackerFromYaml(file, node["tracker"]);
+  if (node["camera"]) rig.camera = CameraFromYaml(file, node["camera"], calibration);
+  if (!rig.tracker && !rig.camera) throw InputError(Where(file, node), "capture: names neither a tracker nor a camera");
+  return rig;
+}
+
+void WaitForSignal(const sigset_t& signals) {
+  int signal = 0;
+  while (::sigwait(&signals, &signal) != 0) {
+  }
+  std::fprintf(stderr, "capture: %s received, finishing\n", ::strsignal(signal));
+}
+
+int RunDaemon(const fs::path& rig_path, const std::optional<fs::path>& sessions, ControlServerOptions overrides,
+              bool port_given, bool bind_given, bool json) {
+  CaptureRig rig = LoadCaptureRig(rig_path);
+  if (sessions) rig.daemon.sessions_dir = *sessions;
+  if (port_given) rig.control.port = overrides.port;
+  if (bind_given) rig.control.bind = overrides.bind;
+  rig.control.allow_remote = overrides.allow_remote;
+  rig.control.token = overrides.token;
+  rig.control.check();
+  fs::create_directories(rig.daemon.sessions_dir);
+
+  sigset_t signals;  // blocked in every thread; the main thread waits for them
+  sigemptyset(&signals);
+  sigaddset(&signals, SIGINT);
+  sigaddset(&signals, SIGTERM);
+  ::pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+
+  std::vector<std::unique_ptr<capture::CaptureSource>> sources;
+  if (rig.tracker) sources.push_back(capture::CreateNdiSource(*rig.tracker));
+  if (rig.camera) sources.push_back(capture::CreateKinect1Source(*rig.camera));
+  capture::CaptureDaemon daemon(rig.daemon, std::move(sources));
+  capture::ControlServer server(daemon, rig.control);
+  const nlohmann::json where = {{"bind", rig.control.bind}, {"port", server.port()},
+                                {"sessions_dir", rig.daemon.sessions_dir.string()}, {"pid", ::getpid()}};
+  if (json) std::printf("%s\n", where.dump().c_str());
+  else std::printf("capture daemon on http://%s:%d, sessions in %s (SIGTERM or Ctrl-C to stop)\n",
+                   rig.control.bind.c_str(), server.port(), rig.daemon.sessions_dir.c_str());
+  std::fflush(stdout);
+
+  WaitForSignal(signals);
+  server.Stop();
+  try {
+    const nlohmann::json summary = daemon.StopSession();
+    std::fprintf(stderr, "capture: session finished: %s\n", summary.dump().c_str());
+  } catch (const capture::StateError&) {
+  }
+  return 0;
+}
+
+struct ClientFlags {
+  std::string host = "127.0.0.1";
+  int port = 8780;
+  std::string token;
+  std::string rig;
+  bool json = false;
+};
+
+// One request to the daemon; prints the answer and returns the exit status.
+int Request(const ClientFlags& flags, const std::string& method, const std::string& path, const nlohmann::json& body,
+            const std::function<void(const nlohmann::json&)>& print) {
+  ClientFlags where = flags;
+  if (!flags.rig.empty()) {
+    const CaptureRig rig = LoadCaptureRig(flags.rig);
+    where.port = rig.control.port;
+    if (rig.control.bind != "0.0.0.0") where.host = rig.control.bind;
+  }
+  httplib::Client client(where.host, where.port);
+  client.set_connection_timeout(2);
+  client.set_read_timeout(30);
+  httplib::Headers headers;
+  if (!where.token.empty()) headers.emplace("Authorization", "Bearer " + where.token);
+  const httplib::Result result = method == "GET" ? client.Get(path, headers)
+                                                 : client.Post(path, headers, body.dump(), "application/json");
+  if (!result)
+    throw InputError(Str("capture daemon at ", where.host, ":", where.port),
+                     Str("cannot be reached (", httplib::to_string(result.error()), "): is `mocaplabel capture daemon` running?"));
+  nlohmann::json answer = nlohmann::json::parse(result->body, nullptr, false);
+  if (answer.is_discarded()) answer = {{"error", "the daemon answered something that is not JSON: " + result->body}};
+  if (flags.json) std::printf("%s\n", answer.dump().c_str());
+  if (result->status != 200) {
+    std::fprintf(stderr, "mocaplabel capture: %s\n", answer.value("error", std::string("request failed")).c_str());
+    return 1;
+  }
+  if (!flags.json) print(answer);
+  if (answer.contains("error") && answer["error"].is_string() && !answer["error"].get<std::string>().empty()) {
+    std::fprintf(stderr, "mocaplabel capture: session failed: %s\n", answer["error"].get<std::string>().c_str());
+    return 1;
+  }
+  return 0;
+}
+
+void PrintStatus(const nlohmann::json& s) {
+  std::printf("state: %s\n", s["state"].get<std::string>().c_str());
+  if (s["session"].is_object()) std::printf("session: %s\n", s["session"].dump().c_str());
+  for (const auto& source : s["sources"]) std::printf("source %s: %s %s\n", source["name"].get<std::string>().c_str(),
+                                                      source["state"].get<std::string>().c_str(), source["device"].dump().c_str());
+  for (const auto& [name, stream] : s["streams"].items())
+    std::printf("stream %s: %.1f Hz, %lld received, bodies %s\n", name.c_str(), stream["rate_hz"].get<double>(),
+                stream["received"].get<long long>(), stream["bodies"].dump().c_str());
+  if (s.contains("queues")) std::printf("queues: %s\n", s["queues"].dump().c_str());
+  std::printf("disk: %s\n", s["disk"].dump().c_str());
+}
+
+void AddClientFlags(CLI::App* command, ClientFlags& flags) {
+  command->add_option("--host", flags.host, "daemon address")->capture_default_str();
+  command->add_option("--port", flags.port, "daemon control port")->capture_default_str();
+  command->add_option("--token", flags.token, "token the daemon was started with");
+  command->add_option("--rig", flags.rig, "take the control address from this rig file");
+  command->add_flag("--json", flags.json, "print the daemon's JSON answer on stdout");
+}
+
+}  // namespace
+
+int RunCapture(int argc, char** argv) {
+  CLI::App app{"The capture daemon and its control (docs/capture.md)", "mocaplabel capture"};
+  app.require_subcommand(1);
+  CLI::App* daemon = app.add_subcommand("daemon", "connect the rig's devices, keep them streaming, serve the control API");
+  std::string rig_path, sessions;
+  ControlServerOptions control;
+  bool daemon_json = false;
+  daemon->add_option("--rig", rig_path, "rig file with a capture: section")->required();
+  daemon->add_option("--sessions", sessions, "folder for sessions (overrides the rig's sessions_dir)");
+  CLI::Option* port = daemon->add_option("--port", control.port, "control port (0: any free port)");
+  CLI::Option* bind = daemon->add_option("--bind", control.bind, "control address (non-loopback needs --allow-remote)");
+  daemon->add_flag("--allow-remote", control.allow_remote, "serve clients that are not on loopback (needs --token)");
+  daemon->add_option("--token", control.token, "require 'Authorization: Bearer TOKEN' from every client");
+  daemon->add_flag("--json", daemon_json, "print where it listens as one JSON line on stdout");
+
+  ClientFlags flags;
+  std::string name;
+  CLI::App* start = app.add_subcommand("start", "start recording a session");
+  start->add_option("--name", name, "session name (folder under the sessions folder)")->required();
+  CLI::App* stop = app.add_subcommand("stop", "stop the session and close it");
+  CLI::App* status = app.add_subcommand("status", "rates, drops, queues, disk, visible bodies");
+  for (CLI::App* command : {start, stop, status}) AddClientFlags(command, flags);
+  CLI11_PARSE(app, argc, argv);
+
+  if (daemon->parsed())
+    return RunDaemon(rig_path, sessions.empty() ? std::nullopt : std::optional<fs::path>(sessions), control,
+                     port->count() > 0, bind->count() > 0, daemon_json);
+  if (start->parsed())
+    return Request(flags, "POST", "/start", {{"name", name}},
+                   [](const nlohmann::json& a) { std::printf("recording %s\n", a["dir"].get<std::string>().c_str()); });
+  if (stop->parsed())
+    return Request(flags, "POST", "/stop", nlohmann::json::object(),
+                   [](const nlohmann::json& a) { std::printf("stopped: %s\n", a.dump().c_str()); });
+  return Request(flags, "GET", "/status", nullptr, PrintStatus);
+}
+
+}  // namespace mocap::cli

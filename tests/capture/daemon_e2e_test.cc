@@ -1,0 +1,326 @@
+// End to end: `mocaplabel capture daemon` with `mocaplabel ndi-emulator` on loopback and a Kinect1
+// replayed by libfreenect's fakenect from real TUM frames, controlled with `capture start/stop`; and
+// the faults: the tracker killed and restarted, corrupted bytes, the daemon killed or terminated.
+#include <gtest/gtest.h>
+#include <signal.h>
+
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <thread>
+
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include "../kinect/subprocess.h"
+#include "../kinect/tum_recording.h"
+#include "capture/kinect/kinect1_depth.h"
+#include "process.h"
+#include "session/reader.h"
+#include "test_dirs.h"
+
+namespace mocap {
+namespace {
+
+namespace fs = std::filesystem;
+using namespace std::chrono_literals;
+using testing::ChildProcess;
+
+constexpr double kTrackerRateHz = 30;
+constexpr int kReplayFrames = 45;  // 1.5 s at 30 Hz: the 9 TUM frames five times over
+
+struct Endpoint {
+  std::unique_ptr<ChildProcess> process;
+  int port = 0;
+};
+
+nlohmann::json FirstJsonLine(ChildProcess& process, const std::string& what) {
+  const std::optional<std::string> line = process.ReadLine(15000);
+  if (!line) throw std::runtime_error(what + " printed nothing; log:\n" + process.Log());
+  return nlohmann::json::parse(*line);
+}
+
+Endpoint StartEmulator(const fs::path& dir, int port, const std::vector<std::string>& extra = {}) {
+  std::vector<std::string> argv = {MOCAPLABEL_EXE, "ndi-emulator", "--port", std::to_string(port), "--json",
+                                   "--rate", std::to_string(kTrackerRateHz), "--truth", (dir / "truth.csv").string()};
+  argv.insert(argv.end(), extra.begin(), extra.end());
+  Endpoint e{std::make_unique<ChildProcess>(argv, std::map<std::string, std::string>{}, dir / "emulator.log")};
+  e.port = FirstJsonLine(*e.process, "ndi-emulator")["port"];
+  return e;
+}
+
+fs::path WriteRig(const fs::path& dir, int tracker_port, bool camera) {
+  const fs::path rig = dir / "rig.yaml";
+  std::ofstream out(rig);
+  out << "name: e2e\ncapture:\n  sessions_dir: sessions\n"
+      << "  tracker: {name: ndi, tcp: \"127.0.0.1:" << tracker_port << "\", rate_hz: " << 8 * kTrackerRateHz << "}\n";
+  if (camera) out << "  camera: {name: kinect1, index: 0}\n";
+  return rig;
+}
+
+Endpoint StartDaemon(const fs::path& rig, const std::map<std::string, std::string>& env) {
+  Endpoint d{std::make_unique<ChildProcess>(
+      std::vector<std::string>{MOCAPLABEL_EXE, "capture", "daemon", "--rig", rig.string(), "--port", "0", "--json"}, env,
+      rig.parent_path() / "daemon.log")};
+  d.port = FirstJsonLine(*d.process, "capture daemon")["port"];
+  return d;
+}
+
+// Runs `mocaplabel ARGS... --json`; returns its exit status and JSON answer.
+std::pair<int, nlohmann::json> Cli(const fs::path& dir, std::vector<std::string> args) {
+  args.insert(args.begin(), MOCAPLABEL_EXE);
+  args.push_back("--json");
+  ChildProcess cli(args, {}, dir / "cli.log");
+  std::string out;  // the whole of stdout: one JSON document, possibly over several lines
+  while (const std::optional<std::string> line = cli.ReadLine(30000)) out += *line + "\n";
+  const std::optional<int> status = cli.Wait(30000);
+  return {status.value_or(-1), nlohmann::json::parse(out, nullptr, false)};
+}
+
+nlohmann::json Status(const fs::path& dir, int port) {
+  return Cli(dir, {"capture", "status", "--port", std::to_string(port)}).second;
+}
+
+nlohmann::json Source(const nlohmann::json& status, const std::string& name) {
+  for (const auto& s : status["sources"])
+    if (s["name"] == name) return s["device"];
+  return {};
+}
+
+struct TruthRow {
+  Rigid3d pose;
+  std::string status;
+};
+// The emulator's --truth CSV: (frame, handle) -> what it served.
+std::map<std::pair<int64_t, int>, TruthRow> ReadTruth(const fs::path& csv) {
+  std::map<std::pair<int64_t, int>, TruthRow> truth;
+  std::ifstream in(csv);
+  std::string line;
+  std::getline(in, line);
+  while (std::getline(in, line)) {
+    std::stringstream row(line);
+    std::vector<std::string> f;
+    for (std::string cell; std::getline(row, cell, ',');) f.push_back(cell);
+    if (f.size() != 12 || f[11] == "1") continue;  // a corrupted reply was never delivered
+    const Rigid3d pose = f[2] != "valid" ? Rigid3d()
+                         : Rigid3d::FromQuatWxyz(std::stod(f[6]), std::stod(f[7]), std::stod(f[8]), std::stod(f[9]),
+                                                 {std::stod(f[3]), std::stod(f[4]), std::stod(f[5])});
+    truth[{std::stoll(f[0]), std::stoi(f[1])}] = {pose, f[2]};
+  }
+  return truth;
+}
+
+int HandleOf(const std::string& body) { return std::stoi(body.substr(body.find('-') + 1), nullptr, 16); }
+
+std::vector<testing::TumFrame> ReplayFrames() {
+  const std::vector<testing::TumFrame> tum = testing::LoadTumDesk();
+  std::vector<testing::TumFrame> frames;
+  for (int i = 0; i < kReplayFrames; ++i) {
+    testing::TumFrame f = tum[static_cast<size_t>(i) % tum.size()];
+    f.depth_stamp_s = 1000.0 + i / 30.0;
+    frames.push_back(f);
+  }
+  return frames;
+}
+
+// The depth in mm the Kinect1 device delivers for a recorded depth (the fit of the raw code written).
+cv::Mat ExpectedDepthMm(const cv::Mat& depth_m) {
+  const capture::Raw11ToMmTable table = capture::Raw11ToMmTable::FromFit();
+  cv::Mat mm(depth_m.size(), CV_16UC1);
+  for (int v = 0; v < depth_m.rows; ++v)
+    for (int u = 0; u < depth_m.cols; ++u) {
+      const float z = depth_m.at<float>(v, u);
+      mm.at<uint16_t>(v, u) = z == 0 ? 0 : table[capture::DepthMToRaw11(z)];
+    }
+  return mm;
+}
+
+void ExpectCameraMatchesReplay(const SessionReader& reader, const std::vector<testing::TumFrame>& frames,
+                               const std::vector<testing::RecordedFrame>& recorded) {
+  const int64_t n = reader.frame_count("kinect1");
+  ASSERT_GT(n, 5);
+  int64_t first = -1;
+  for (size_t k = 0; k < recorded.size(); ++k)
+    if (static_cast<int64_t>(recorded[k].ticks) == reader.frame("kinect1", 0).record.device_ticks) first = static_cast<int64_t>(k);
+  ASSERT_GE(first, 0) << "the first frame's device ticks are not in the recording";
+  // Every frame the replay served after `start` is in the session, in order, once.
+  ASSERT_EQ(n, kReplayFrames - first);
+  for (int64_t i = 0; i < n; ++i) {
+    const CameraFrameRecord& r = reader.frame("kinect1", i).record;
+    EXPECT_EQ(r.device_ticks, static_cast<int64_t>(recorded[static_cast<size_t>(first + i)].ticks)) << i;
+    EXPECT_EQ(r.frame, reader.frame("kinect1", 0).record.frame + i);
+    if (i > 0) {
+      EXPECT_GT(r.stamp_ns, reader.frame("kinect1", i - 1).record.stamp_ns);
+    }
+  }
+  // Host stamps follow the device clock (replay sleeps reproduce the 33 ms spacing, late on a busy host).
+  const double span_s = (reader.frame("kinect1", n - 1).record.stamp_ns - reader.frame("kinect1", 0).record.stamp_ns) * 1e-9;
+  EXPECT_GT(span_s, (n - 1) / 30.0 * 0.9);
+  EXPECT_LT(span_s, (n - 1) / 30.0 * 2.0);
+  for (const int64_t i : {int64_t{0}, n - 1}) {
+    const testing::TumFrame& f = frames[static_cast<size_t>(first + i)];
+    EXPECT_EQ(cv::norm(reader.LoadColor("kinect1", i), f.bgr, cv::NORM_INF), 0.0) << "colour of frame " << i;
+    const cv::Mat depth_mm = cv::imread(reader.DepthPath("kinect1", i).string(), cv::IMREAD_ANYDEPTH);  // mm
+    EXPECT_EQ(cv::norm(depth_mm, ExpectedDepthMm(f.depth_m), cv::NORM_INF), 0.0) << "depth of frame " << i;
+  }
+}
+
+void ExpectTrackerMatchesEmulator(const SessionReader& reader, const fs::path& truth_csv, const nlohmann::json& info) {
+  const auto truth = ReadTruth(truth_csv);
+  const auto records = reader.tracker_records("ndi");
+  ASSERT_GT(records.size(), 20u);
+  std::set<std::pair<int64_t, int>> seen;
+  int64_t first = INT64_MAX, last = 0;
+  for (const TrackerRecord& r : records) {
+    const auto key = std::make_pair(r.device_frame, HandleOf(r.body));
+    const auto it = truth.find(key);
+    ASSERT_NE(it, truth.end()) << "frame " << r.device_frame << " " << r.body << " was never served";
+    EXPECT_TRUE(seen.insert(key).second) << "recorded twice";
+    first = std::min(first, r.device_frame);
+    last = std::max(last, r.device_frame);
+    if (it->second.status != "valid") continue;
+    EXPECT_LT((r.T_frame_body.translation() - it->second.pose.translation()).norm(), 2e-6);
+    EXPECT_LT(r.T_frame_body.rotation().angularDistance(it->second.pose.rotation()), 2e-5);
+  }
+  int64_t served_in_range = 0, unserved_frames = 0;
+  std::set<int64_t> frames_served;
+  for (const auto& [key, row] : truth)
+    if (key.first >= first && key.first <= last) {
+      ++served_in_range;
+      frames_served.insert(key.first);
+    }
+  EXPECT_EQ(static_cast<int64_t>(seen.size()), served_in_range) << "samples served during the session are missing";
+  unserved_frames = (last - first + 1) - static_cast<int64_t>(frames_served.size());
+  // Stamps against frame numbers: the emulator's rate, receive jitter well under a frame or two.
+  const auto body = reader.BodyRecords("ndi", records.front().body);
+  const double slope_ns = static_cast<double>(body.back().stamp_ns - body.front().stamp_ns) /
+                          static_cast<double>(body.back().device_frame - body.front().device_frame);
+  EXPECT_NEAR(slope_ns, 1e9 / kTrackerRateHz, 0.05e9 / kTrackerRateHz);
+  for (const TrackerRecord& r : body) {
+    const double predicted = body.front().stamp_ns + (r.device_frame - body.front().device_frame) * slope_ns;
+    EXPECT_LT(std::abs(r.stamp_ns - predicted), 100e6) << "frame " << r.device_frame;  // a loaded CI host
+  }
+  if (!info.contains("tracker_bodies")) return;  // no `info` document to compare with
+  for (const auto& [name, b] : info["tracker_bodies"].items())
+    EXPECT_EQ(b["dropped_frames"], unserved_frames) << name << ": skipped frame numbers the emulator did serve";
+}
+
+TEST(CaptureDaemonE2E, RecordsWhatTheEmulatorAndTheReplayServed) {
+  const fs::path dir = testing::FreshCaptureDir("e2e_clean");
+  const std::vector<testing::TumFrame> frames = ReplayFrames();
+  const auto recorded = testing::WriteTumRecording(dir / "replay", frames, 123'456'789);
+  Endpoint emulator = StartEmulator(dir, 0);
+  Endpoint daemon = StartDaemon(WriteRig(dir, emulator.port, true), testing::FakenectEnv(dir / "replay"));
+  const std::string port = std::to_string(daemon.port);
+  const auto [start_rc, started] = Cli(dir, {"capture", "start", "--name", "S", "--port", port});
+  ASSERT_EQ(start_rc, 0) << started.dump() << daemon.process->Log();
+  nlohmann::json status;
+  for (int i = 0; i < 100; ++i) {  // until the replay has served its last frame
+    status = Status(dir, daemon.port);
+    if (!Source(status, "kinect1").value("stream_ended", std::string()).empty()) break;
+    std::this_thread::sleep_for(100ms);
+  }
+  ASSERT_FALSE(Source(status, "kinect1").value("stream_ended", std::string()).empty()) << status.dump();
+  EXPECT_EQ(status["streams"]["ndi"]["bodies"]["handle-01"]["visible"], true) << status.dump();
+  std::this_thread::sleep_for(300ms);
+  const auto [stop_rc, summary] = Cli(dir, {"capture", "stop", "--port", port});
+  ASSERT_EQ(stop_rc, 0) << summary.dump();
+  EXPECT_EQ(summary["complete"], true);
+  EXPECT_EQ(summary["streams"]["kinect1"]["dropped"], 0);
+  EXPECT_EQ(summary["streams"]["ndi"]["dropped"], 0);
+  emulator.process->Signal(SIGTERM);
+  emulator.process->Wait(5000);
+
+  const fs::path session = dir / "sessions" / "S";
+  const auto [info_rc, info] = Cli(dir, {"info", session.string()});
+  ASSERT_EQ(info_rc, 0) << info.dump();
+  EXPECT_EQ(info["events"].value("drop", 0), 0) << info["events"].dump();
+  EXPECT_EQ(info["cameras"]["kinect1"]["dropped_frames"], 0);
+  const SessionReader reader = SessionReader::Open(session);
+  EXPECT_TRUE(reader.complete());
+  ExpectCameraMatchesReplay(reader, frames, recorded);
+  ExpectTrackerMatchesEmulator(reader, dir / "truth.csv", info);
+}
+
+TEST(CaptureDaemonE2E, TrackerKilledAndRestartedLeavesAGapAndRecordingContinues) {
+  const fs::path dir = testing::FreshCaptureDir("e2e_restart");
+  Endpoint emulator = StartEmulator(dir, 0);
+  const int tracker_port = emulator.port;
+  Endpoint daemon = StartDaemon(WriteRig(dir, tracker_port, false), {});
+  const std::string port = std::to_string(daemon.port);
+  ASSERT_EQ(Cli(dir, {"capture", "start", "--name", "S", "--port", port}).first, 0);
+  std::this_thread::sleep_for(800ms);
+  emulator.process->Signal(SIGKILL);
+  emulator.process->Wait(5000);
+  std::this_thread::sleep_for(700ms);
+  Endpoint restarted = StartEmulator(dir, tracker_port);
+  for (int i = 0; i < 80 && Source(Status(dir, daemon.port), "ndi")["reconnects"] == 0; ++i) std::this_thread::sleep_for(100ms);
+  std::this_thread::sleep_for(600ms);
+  const auto [stop_rc, summary] = Cli(dir, {"capture", "stop", "--port", port});
+  ASSERT_EQ(stop_rc, 0) << summary.dump() << daemon.process->Log();
+
+  const SessionReader reader = SessionReader::Open(dir / "sessions" / "S");
+  std::optional<int64_t> gap_ns;
+  std::set<std::string> kinds;
+  for (const EventRecord& e : reader.events()) {
+    if (e.stream == "ndi") kinds.insert(e.kind);
+    if (e.kind == "gap" && e.stream == "ndi") gap_ns = e.stamp_ns;
+  }
+  ASSERT_TRUE(gap_ns) << "no gap event; log:\n" << daemon.process->Log();
+  EXPECT_TRUE(kinds.count("error") && kinds.count("reconnect"));
+  int64_t before = 0, after = 0;
+  for (const TrackerRecord& r : reader.tracker_records("ndi")) (r.stamp_ns < *gap_ns ? before : after)++;
+  EXPECT_GT(before, 20);
+  EXPECT_GT(after, 10) << "recording did not continue after the reconnect";
+}
+
+TEST(CaptureDaemonE2E, CorruptedBytesAreCountedAndRecordingContinues) {
+  const fs::path dir = testing::FreshCaptureDir("e2e_corrupt");
+  Endpoint emulator = StartEmulator(dir, 0, {"--corrupt", "0.3"});
+  Endpoint daemon = StartDaemon(WriteRig(dir, emulator.port, false), {});
+  const std::string port = std::to_string(daemon.port);
+  ASSERT_EQ(Cli(dir, {"capture", "start", "--name", "S", "--port", port}).first, 0);
+  std::this_thread::sleep_for(1500ms);
+  const nlohmann::json device = Source(Status(dir, daemon.port), "ndi");
+  EXPECT_GT(device["crc_errors"].get<int64_t>() + device["malformed_replies"].get<int64_t>(), 0) << device.dump();
+  const auto [stop_rc, summary] = Cli(dir, {"capture", "stop", "--port", port});
+  ASSERT_EQ(stop_rc, 0) << summary.dump();
+  EXPECT_FALSE(daemon.process->Wait(0)) << "the daemon exited";
+  const SessionReader reader = SessionReader::Open(dir / "sessions" / "S");
+  EXPECT_GT(reader.tracker_records("ndi").size(), 20u);
+  int64_t errors = 0;
+  for (const EventRecord& e : reader.events()) errors += e.kind == "error";
+  EXPECT_GT(errors, 0);
+  ExpectTrackerMatchesEmulator(reader, dir / "truth.csv", nlohmann::json::object());  // never a damaged pose
+}
+
+TEST(CaptureDaemonE2E, SigkillLeavesAReadableSessionAndSigtermFinishesIt) {
+  const fs::path dir = testing::FreshCaptureDir("e2e_signals");
+  testing::WriteTumRecording(dir / "replay", ReplayFrames(), 1000);
+  Endpoint emulator = StartEmulator(dir, 0);
+  const fs::path rig = WriteRig(dir, emulator.port, true);
+  {
+    Endpoint daemon = StartDaemon(rig, testing::FakenectEnv(dir / "replay"));
+    ASSERT_EQ(Cli(dir, {"capture", "start", "--name", "killed", "--port", std::to_string(daemon.port)}).first, 0);
+    std::this_thread::sleep_for(1500ms);
+    daemon.process->Signal(SIGKILL);
+    EXPECT_EQ(daemon.process->Wait(5000), 128 + SIGKILL);
+  }
+  const SessionReader killed = SessionReader::Open(dir / "sessions" / "killed");
+  EXPECT_FALSE(killed.complete());
+  EXPECT_GT(killed.tracker_records("ndi").size(), 10u);
+  EXPECT_GT(killed.frame_count("kinect1"), 5);
+  for (int64_t i = 0; i < killed.frame_count("kinect1"); ++i) killed.LoadDepth("kinect1", i);
+
+  Endpoint daemon = StartDaemon(rig, testing::FakenectEnv(dir / "replay"));
+  ASSERT_EQ(Cli(dir, {"capture", "start", "--name", "terminated", "--port", std::to_string(daemon.port)}).first, 0);
+  std::this_thread::sleep_for(800ms);
+  daemon.process->Signal(SIGTERM);
+  EXPECT_EQ(daemon.process->Wait(10000), 0) << daemon.process->Log();
+  const SessionReader terminated = SessionReader::Open(dir / "sessions" / "terminated");
+  EXPECT_TRUE(terminated.complete());
+  EXPECT_GT(terminated.tracker_records("ndi").size(), 10u);
+}
+
+}  // namespace
+}  // namespace mocap
