@@ -238,6 +238,7 @@ void SessionCheckOptions::check() const {
   if (!masks_dir.empty() && !fs::is_directory(masks_dir))
     throw InputError(masks_dir.string(), "mask folder does not exist (--masks)");
   if (threads < 0) throw InputError("validate", "threads must be >= 0");
+  if (frame_stride < 1) throw InputError("validate", "frame stride must be >= 1");
   validate.check();
   context.check();
 }
@@ -248,6 +249,10 @@ SessionValidation CheckSession(const SessionReader& session, const std::vector<V
   const auto start = std::chrono::steady_clock::now();
   LabelRecordsFile file = ReadLabelRecords(options.labels_dir);
   std::vector<RecordCheck>& records = file.records;
+  if (options.frame_stride > 1) {
+    const auto skipped = std::erase_if(records, [&](const RecordCheck& r) { return r.index % options.frame_stride != 0; });
+    file.total -= static_cast<int64_t>(skipped);
+  }
   for (const RecordCheck& r : records) {
     if (!session.manifest().FindCamera(r.camera))
       throw InputError(Str("labels.jsonl camera \"", r.camera, "\""), "not in the session; is it the session the labels came from?");

@@ -50,6 +50,10 @@ struct SessionCheckOptions {
   /// on its own (CheckLabelInFrame, seeded as validate.check_seed says).
   bool track = false;
   int threads = 0;  ///< worker threads; 0 = OpenMP's default
+  /// Checks only the records of frames whose stream index is a multiple of this (1: every frame). The
+  /// records with a pose of the other frames are left out of the result and of `records`; pose-less
+  /// records are counted over all frames. For quick checks of long sessions (the demo).
+  int frame_stride = 1;
   ValidateOptions validate;
   RenderContextOptions context;  ///< for CropBackend::kRenderer
   void check() const;            ///< throws InputError
