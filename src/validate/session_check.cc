@@ -272,6 +272,10 @@ SessionValidation CheckSession(const SessionReader& session, const std::vector<V
                   [&](int g) { CheckFrame(session, models, options, records, groups[g]); });
     }
   }
+  for (RecordCheck& r : records) {
+    const auto it = std::find_if(objects.begin(), objects.end(), [&](const auto& o) { return o.id == r.object; });
+    if (it != objects.end() && it->symmetry) ApplySymmetry(r.T_camera_object_label, *it->symmetry, options.validate, &r.check);
+  }
   out.summary = Summarise(records, file.total);
   out.summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   out.records = std::move(records);

@@ -23,6 +23,8 @@ struct ValidationObject {
   std::string name;
   std::filesystem::path mesh_path;
   double unit_scale_to_m = 1.0;  ///< 0.001 for a mesh in millimetres
+  /// A body of revolution: SegICP estimates are compared with the label modulo rotations about this axis.
+  std::optional<SymmetryAxis> symmetry = std::nullopt;
 };
 
 /// What the pixel values of user masks (`--masks`) mean.

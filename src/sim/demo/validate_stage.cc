@@ -7,11 +7,21 @@
 
 namespace mocap::sim {
 
+std::vector<ValidationObject> ValidationObjects(const RecordResult& record, const ObjectLibrary& library,
+                                                const RigCalibration& calibration) {
+  std::vector<ValidationObject> objects;
+  for (const LabelObject& o : MakeLabelInputs(record, library, calibration).objects) {
+    ValidationObject object{o.id, o.name, o.mesh_path, o.unit_scale_to_m, std::nullopt};
+    for (const Symmetry& s : library.Find(o.name)->symmetries)
+      if (s.type == Symmetry::Type::kContinuous) object.symmetry = SymmetryAxis{s.axis, s.offset_m};
+    objects.push_back(object);
+  }
+  return objects;
+}
+
 void ValidateStage(DemoContext& c) {
   MOCAP_CHECK(!c.labels_dir.empty(), "the validation stage needs the label stage before it");
-  std::vector<ValidationObject> objects;
-  for (const LabelObject& o : MakeLabelInputs(c.record, c.library, c.record.truth.given_calibration).objects)
-    objects.push_back({o.id, o.name, o.mesh_path, o.unit_scale_to_m});
+  const std::vector<ValidationObject> objects = ValidationObjects(c.record, c.library, c.record.truth.given_calibration);
   SessionCheckOptions options;
   options.labels_dir = c.labels_dir;
   options.threads = c.options.threads;
