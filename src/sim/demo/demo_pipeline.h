@@ -28,7 +28,7 @@ struct DemoOptions {
   int threads = 0;                ///< 0: one per core
   /// The validate stage checks the frames whose index is a multiple of this (1: every frame). The
   /// default keeps the default demo within its time budget on 2 cores (docs/demo.md).
-  int validate_frame_stride = 5;
+  int validate_frame_stride = 15;
   RenderContextOptions context;
   void check() const;  ///< throws InputError
 };
