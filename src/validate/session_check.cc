@@ -249,10 +249,10 @@ SessionValidation CheckSession(const SessionReader& session, const std::vector<V
   const auto start = std::chrono::steady_clock::now();
   LabelRecordsFile file = ReadLabelRecords(options.labels_dir);
   std::vector<RecordCheck>& records = file.records;
-  if (options.frame_stride > 1) {
-    const auto skipped = std::erase_if(records, [&](const RecordCheck& r) { return r.index % options.frame_stride != 0; });
-    file.total -= static_cast<int64_t>(skipped);
-  }
+  const auto skipped = std::erase_if(records, [&](const RecordCheck& r) {
+    return r.index % options.frame_stride != 0 || std::ranges::count(options.skip_objects, r.object) > 0;
+  });
+  file.total -= static_cast<int64_t>(skipped);
   for (const RecordCheck& r : records) {
     if (!session.manifest().FindCamera(r.camera))
       throw InputError(Str("labels.jsonl camera \"", r.camera, "\""), "not in the session; is it the session the labels came from?");

@@ -56,6 +56,8 @@ struct SessionCheckOptions {
   /// records with a pose of the other frames are left out of the result and of `records`; pose-less
   /// records are counted over all frames. For quick checks of long sessions (the demo).
   int frame_stride = 1;
+  /// Object ids whose records are left out like the skipped frames' (objects the check cannot verify).
+  std::vector<int> skip_objects;
   ValidateOptions validate;
   RenderContextOptions context;  ///< for CropBackend::kRenderer
   void check() const;            ///< throws InputError
