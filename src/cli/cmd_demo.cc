@@ -1,6 +1,7 @@
 // mocaplabel demo [--out DIR] [--json] [--scenario F] [--frames N]: the whole tool on the simulated rig
-// (docs/demo.md): simulate, label, score against the truth, contact sheet.
+// (docs/demo.md): simulate, label, validate (SegICP), score against the truth, contact sheet.
 #include <CLI/CLI.hpp>
+#include <cmath>
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
@@ -23,8 +24,14 @@ void PrintHuman(const sim::DemoResult& r) {
   std::printf("  mask IoU (label vs true visible mask): mean %.4f, 5th percentile %.4f\n", s.mask_iou_mean, s.mask_iou_p5);
   std::printf("  pose error vs truth: median %.3f mm / %.3f deg, 95th percentile %.3f mm / %.3f deg\n",
               s.pose_err_mm_median, s.pose_err_deg_median, s.pose_err_mm_p95, s.pose_err_deg_p95);
-  std::printf("  flagged frames: %lld; validation (SegICP): not run (no validation stage yet)\n",
-              static_cast<long long>(c.label.frames_flagged));
+  std::printf("  flagged frames: %lld\n", static_cast<long long>(c.label.frames_flagged));
+  if (c.validate_frame_stride > 0) {
+    std::printf("  validation (SegICP, %lld frames, one in %d): success rate %s, verdicts", static_cast<long long>(c.validated_frames),
+                c.validate_frame_stride,
+                c.segicp_success_rate ? Str(std::lround(1000 * *c.segicp_success_rate) / 10.0, " %").c_str() : "n/a (nothing checkable)");
+    for (const auto& [verdict, count] : c.verdicts.items()) std::printf(" %s %lld", verdict.c_str(), count.get<long long>());
+    std::printf("\n");
+  }
   std::printf("  seconds:");
   for (const auto& [stage, seconds] : r.seconds_per_stage) std::printf(" %s %.1f", stage.c_str(), seconds);
   std::printf("\n");
@@ -43,6 +50,8 @@ int RunDemo(int argc, char** argv) {
   app.add_option("--out", out_dir, "output folder (replaced when it holds an earlier demo)")->capture_default_str();
   app.add_option("--scenario", scenario_path, "scenario YAML (default: the embedded default scenario)");
   app.add_option("--frames", options.frames, "simulate only the first N frames (0: all of the scenario's)");
+  app.add_option("--validate-every", options.validate_frame_stride, "validate one frame in K (1: every frame)")
+      ->capture_default_str();
   app.add_option("--threads", options.threads, "worker threads, each with its own EGL context (0: one per core)");
   app.add_option("--platform", platform, "EGL platform: auto, surfaceless or device");
   app.add_flag("--json", json, "print one JSON document on stdout");

@@ -15,17 +15,20 @@ std::string Fixed(double value, int digits) {
   return buffer;
 }
 
+/// Errors and success of the estimate against the label.
+void ScoreEstimate(const Rigid3d& label, const ValidateOptions& options, LabelCheck* check) {
+  check->errors = ComputePoseErrors(check->T_camera_object_segicp, label);
+  check->success = check->errors.position_mm < 1e3 * options.verdict.success_position_m &&
+                   check->errors.rotation_axis_deg < options.verdict.success_rotation_deg &&
+                   check->errors.rotation_angle_deg < options.verdict.success_rotation_deg;
+  check->segicp_reliable = check->segicp_score >= options.acquisition.epsilon;
+}
+
 /// Label score, errors, success and verdict once an estimate (or none) is known.
 void Finish(const KdTree& tree, const Rigid3d& label, const CropSource& model, const ValidateOptions& options,
             LabelCheck* check) {
   check->label_score = ScoreAlignment(model.Crop(label).points_model, label, tree, options.alignment).score;
-  if (check->estimated) {
-    check->errors = ComputePoseErrors(check->T_camera_object_segicp, label);
-    check->success = check->errors.position_mm < 1e3 * options.verdict.success_position_m &&
-                     check->errors.rotation_axis_deg < options.verdict.success_rotation_deg &&
-                     check->errors.rotation_angle_deg < options.verdict.success_rotation_deg;
-    check->segicp_reliable = check->segicp_score >= options.acquisition.epsilon;
-  }
+  if (check->estimated) ScoreEstimate(label, options, check);
   DecideVerdict(options.verdict, check);
 }
 
@@ -105,6 +108,30 @@ void DecideVerdict(const VerdictOptions& o, LabelCheck* c) {
     c->reason_code = VerdictReason::kDiffers;
   }
   c->reason = differs;
+}
+
+Rigid3d NearestSymmetricPose(const Rigid3d& T_camera_object, const Rigid3d& T_camera_object_reference,
+                             const SymmetryAxis& symmetry) {
+  const Eigen::Vector3d a = symmetry.axis_object.normalized();
+  // trace(M Rot(a, t)) = A cos t + B sin t + a'Ma (Rodrigues), largest at t = atan2(B, A): the rotation
+  // nearest to the reference.
+  const Eigen::Matrix3d M = T_camera_object_reference.rotation().toRotationMatrix().transpose() *
+                            T_camera_object.rotation().toRotationMatrix();
+  Eigen::Matrix3d a_cross;
+  a_cross << 0, -a.z(), a.y(), a.z(), 0, -a.x(), -a.y(), a.x(), 0;
+  const double A = M.trace() - a.dot(M * a), B = (M * a_cross).trace();
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(std::atan2(B, A), a).toRotationMatrix();
+  // The rotation about the axis through point_object, in the object frame.
+  const Rigid3d about_axis(R, symmetry.point_object - R * symmetry.point_object);
+  return T_camera_object * about_axis;
+}
+
+void ApplySymmetry(const Rigid3d& T_camera_object_label, const SymmetryAxis& symmetry, const ValidateOptions& options,
+                   LabelCheck* check) {
+  if (!check->estimated) return;
+  check->T_camera_object_segicp = NearestSymmetricPose(check->T_camera_object_segicp, T_camera_object_label, symmetry);
+  ScoreEstimate(T_camera_object_label, options, check);
+  DecideVerdict(options.verdict, check);
 }
 
 LabelCheck CheckLabel(const PointCloud& scene_camera, const Rigid3d& T_camera_object_label, const CropSource& model,

@@ -84,4 +84,22 @@ LabelCheck BadInputCheck(VerdictReason code, std::string reason, int scene_point
 /// The verdict rules alone (docs/validation.md "Verdicts"); fills verdict, reason_code, reason.
 void DecideVerdict(const VerdictOptions& options, LabelCheck* check);
 
+/// A continuous rotational symmetry of an object (a body of revolution such as a funnel): rotations about
+/// the axis leave its surface unchanged, so depth cannot tell them apart.
+struct SymmetryAxis {
+  Eigen::Vector3d axis_object = Eigen::Vector3d::UnitZ();   ///< direction, object frame (normalised here)
+  Eigen::Vector3d point_object = Eigen::Vector3d::Zero();   ///< a point on the axis, object frame, metres
+};
+
+/// T_camera_object rotated about the object's symmetry axis to the pose nearest in rotation to
+/// T_camera_object_reference (an equally valid pose of a symmetric object).
+Rigid3d NearestSymmetricPose(const Rigid3d& T_camera_object, const Rigid3d& T_camera_object_reference,
+                             const SymmetryAxis& symmetry);
+
+/// Compares a check's SegICP estimate with the label modulo `symmetry`: the estimate is replaced by its
+/// symmetric equivalent nearest to the label, then errors, success and verdict are recomputed. No-op
+/// without an estimate.
+void ApplySymmetry(const Rigid3d& T_camera_object_label, const SymmetryAxis& symmetry, const ValidateOptions& options,
+                   LabelCheck* check);
+
 }  // namespace mocap

@@ -238,6 +238,7 @@ void SessionCheckOptions::check() const {
   if (!masks_dir.empty() && !fs::is_directory(masks_dir))
     throw InputError(masks_dir.string(), "mask folder does not exist (--masks)");
   if (threads < 0) throw InputError("validate", "threads must be >= 0");
+  if (frame_stride < 1) throw InputError("validate", "frame stride must be >= 1");
   validate.check();
   context.check();
 }
@@ -248,6 +249,10 @@ SessionValidation CheckSession(const SessionReader& session, const std::vector<V
   const auto start = std::chrono::steady_clock::now();
   LabelRecordsFile file = ReadLabelRecords(options.labels_dir);
   std::vector<RecordCheck>& records = file.records;
+  const auto skipped = std::erase_if(records, [&](const RecordCheck& r) {
+    return r.index % options.frame_stride != 0 || std::ranges::count(options.skip_objects, r.object) > 0;
+  });
+  file.total -= static_cast<int64_t>(skipped);
   for (const RecordCheck& r : records) {
     if (!session.manifest().FindCamera(r.camera))
       throw InputError(Str("labels.jsonl camera \"", r.camera, "\""), "not in the session; is it the session the labels came from?");
@@ -266,6 +271,10 @@ SessionValidation CheckSession(const SessionReader& session, const std::vector<V
       ParallelFor(static_cast<int>(groups.size()), options.threads,
                   [&](int g) { CheckFrame(session, models, options, records, groups[g]); });
     }
+  }
+  for (RecordCheck& r : records) {
+    const auto it = std::find_if(objects.begin(), objects.end(), [&](const auto& o) { return o.id == r.object; });
+    if (it != objects.end() && it->symmetry) ApplySymmetry(r.T_camera_object_label, *it->symmetry, options.validate, &r.check);
   }
   out.summary = Summarise(records, file.total);
   out.summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -23,6 +23,8 @@ struct ValidationObject {
   std::string name;
   std::filesystem::path mesh_path;
   double unit_scale_to_m = 1.0;  ///< 0.001 for a mesh in millimetres
+  /// A body of revolution: SegICP estimates are compared with the label modulo rotations about this axis.
+  std::optional<SymmetryAxis> symmetry = std::nullopt;
 };
 
 /// What the pixel values of user masks (`--masks`) mean.
@@ -50,6 +52,12 @@ struct SessionCheckOptions {
   /// on its own (CheckLabelInFrame, seeded as validate.check_seed says).
   bool track = false;
   int threads = 0;  ///< worker threads; 0 = OpenMP's default
+  /// Checks only the records of frames whose stream index is a multiple of this (1: every frame). The
+  /// records with a pose of the other frames are left out of the result and of `records`; pose-less
+  /// records are counted over all frames. For quick checks of long sessions (the demo).
+  int frame_stride = 1;
+  /// Object ids whose records are left out like the skipped frames' (objects the check cannot verify).
+  std::vector<int> skip_objects;
   ValidateOptions validate;
   RenderContextOptions context;  ///< for CropBackend::kRenderer
   void check() const;            ///< throws InputError

@@ -70,6 +70,7 @@ nlohmann::json ValidationSummaryJson(const ValidationSummary& s, const SessionCh
                       {"mask_values", options.masks_dir.empty() ? "label_instance" : ToString(options.mask_values)},
                       {"crops", options.crops == CropBackend::kRenderer ? "renderer" : "surface"},
                       {"mode", options.track ? "track" : "frame"},
+                      {"frame_stride", options.frame_stride},
                       {"records", s.records},
                       {"records_without_pose", s.records_without_pose},
                       {"records_checked", s.records_checked},

@@ -1,5 +1,5 @@
 # Runs `mocaplabel demo --frames 24 --json` and checks the JSON it prints: every field the
-# documentation names, plausible values, and the files it lists exist.
+# documentation names, plausible values (the validate stage's too), and the files it lists exist.
 file(REMOVE_RECURSE "${OUT}")
 execute_process(COMMAND "${MOCAPLABEL}" demo --out "${OUT}" --frames 24 --json
                 RESULT_VARIABLE rc OUTPUT_VARIABLE json ERROR_VARIABLE err)
@@ -8,7 +8,7 @@ if(NOT rc EQUAL 0)
 endif()
 foreach(field frames dropped_frames mask_iou_mean mask_iou_p5 pose_err_mm_median pose_err_mm_p95
               pose_err_deg_median pose_err_deg_p95 flagged_frames seconds_per_stage outputs
-              segicp_success_rate verdicts)
+              segicp_success_rate verdicts validated_frames validate_frame_stride)
   string(JSON type ERROR_VARIABLE missing TYPE "${json}" ${field})
   if(missing)
     message(FATAL_ERROR "field ${field} missing from: ${json}")
@@ -23,8 +23,30 @@ endif()
 if(iou LESS 0.9 OR mm GREATER 2.0)
   message(FATAL_ERROR "implausible scores: mask_iou_mean ${iou}, pose_err_mm_median ${mm}")
 endif()
+# The validate stage ran on every stride-th frame and its figures are filled in.
+string(JSON stride GET "${json}" validate_frame_stride)
+string(JSON validated GET "${json}" validated_frames)
+math(EXPR expected_validated "(24 + ${stride} - 1) / ${stride}")
+if(NOT validated EQUAL expected_validated)
+  message(FATAL_ERROR "expected ${expected_validated} validated frames (one in ${stride}), got ${validated}")
+endif()
+string(JSON rate_type TYPE "${json}" segicp_success_rate)
+string(JSON verdicts_type TYPE "${json}" verdicts)
+if(NOT rate_type STREQUAL "NUMBER" OR NOT verdicts_type STREQUAL "OBJECT")
+  message(FATAL_ERROR "validation figures not filled: segicp_success_rate ${rate_type}, verdicts ${verdicts_type}")
+endif()
+string(JSON rate GET "${json}" segicp_success_rate)
+string(JSON accepted ERROR_VARIABLE no_accept GET "${json}" verdicts accept)
+if(rate LESS 0 OR rate GREATER 1 OR no_accept OR accepted LESS 1)
+  message(FATAL_ERROR "implausible validation: segicp_success_rate ${rate}, verdicts ${json}")
+endif()
+string(JSON validation GET "${json}" outputs validation)
+if(NOT EXISTS "${validation}/validation.json")
+  message(FATAL_ERROR "validation output ${validation}/validation.json not written")
+endif()
 string(JSON sheet GET "${json}" outputs contact_sheet)
 if(NOT EXISTS "${sheet}")
   message(FATAL_ERROR "contact sheet ${sheet} not written")
 endif()
-message(STATUS "demo ok: ${frames} frames, mask_iou_mean ${iou}, pose_err_mm_median ${mm}")
+message(STATUS "demo ok: ${frames} frames, mask_iou_mean ${iou}, pose_err_mm_median ${mm}, "
+               "segicp_success_rate ${rate} over ${validated} frames")

@@ -147,5 +147,23 @@ TEST(PoseErrors, AreThePapersThree) {
   EXPECT_NEAR(e.rotation_angle_deg, RotationDistanceDeg(a, b), 1e-12);
 }
 
+TEST(Symmetry, AnEstimateTurnedAboutTheAxisComparesAsTheLabel) {
+  const SymmetryAxis axis{{0, 1, 0}, {0.02, 0, 0.01}};  // the axis through (0.02, 0, 0.01), along y
+  const Rigid3d label = Rigid3d::FromRvec({0.3, -0.2, 0.5}, {0.1, 0.0, 0.9});
+  const Rigid3d turn_about_axis = Rigid3d::FromRvec({0, 0, 0}, axis.point_object) *
+                                  Rigid3d::FromRvec({0, RadFromDeg(70), 0}, {0, 0, 0}) *
+                                  Rigid3d::FromRvec({0, 0, 0}, -axis.point_object);
+  // Turned 70 deg about the axis, plus a small true error that the symmetry must not hide.
+  const Rigid3d small_error = Rigid3d::FromRvec({RadFromDeg(2), 0, 0}, {0.001, 0, 0});
+  const Rigid3d estimate = label * turn_about_axis * small_error;
+  EXPECT_GT(RotationDistanceDeg(estimate, label), 60.0);
+  const Rigid3d nearest = NearestSymmetricPose(estimate, label, axis);
+  EXPECT_NEAR(RotationDistanceDeg(nearest, label), 2.0, 0.05);
+  EXPECT_LT(TranslationDistanceM(nearest, label), 0.0015);
+  // A rotation about another axis is not hidden.
+  const Rigid3d tilted = label * Rigid3d::FromRvec({0, 0, RadFromDeg(10)}, {0, 0, 0});
+  EXPECT_NEAR(RotationDistanceDeg(NearestSymmetricPose(tilted, label, axis), label), 10.0, 1e-6);
+}
+
 }  // namespace
 }  // namespace mocap

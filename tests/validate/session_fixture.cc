@@ -40,6 +40,12 @@ void WriteNoisyDepth(const fs::path& exr, const fs::path& png, std::mt19937& rng
   cv::imwrite(png.string(), mm);
 }
 
+/// Links the label run's image folders (one per camera) into another label folder.
+void LinkLabelImages(const fs::path& labels, const fs::path& out_labels) {
+  for (const auto& entry : fs::directory_iterator(labels))
+    if (entry.is_directory()) fs::create_directory_symlink(fs::absolute(entry.path()), out_labels / entry.path().filename());
+}
+
 }  // namespace
 
 fs::path FreshTempDir(const std::string& name) {
@@ -101,8 +107,15 @@ void WritePerturbedLabels(const fs::path& labels, const fs::path& out_labels, co
     }
     out << r.dump() << '\n';
   }
-  for (const auto& entry : fs::directory_iterator(labels))
-    if (entry.is_directory()) fs::create_directory_symlink(fs::absolute(entry.path()), out_labels / entry.path().filename());
+  LinkLabelImages(labels, out_labels);
+}
+
+void WriteLabelsWithoutObject(const fs::path& labels, const fs::path& out_labels, int object_id) {
+  fs::create_directories(out_labels);
+  std::ofstream out(out_labels / "labels.jsonl");
+  for (const nlohmann::json& r : ReadLines(labels / "labels.jsonl"))
+    if (r.value("object", 0) != object_id) out << r.dump() << '\n';
+  LinkLabelImages(labels, out_labels);
 }
 
 Perturbation MountError(double translation_m, double angle_deg, uint32_t seed) {

@@ -38,6 +38,11 @@ using Perturbation = std::function<Rigid3d(const Rigid3d& T_camera_object)>;
 void WritePerturbedLabels(const std::filesystem::path& labels, const std::filesystem::path& out_labels,
                           const Perturbation& perturb);
 
+/// Copies a label run's labels.jsonl into `out_labels` without the records of object `object_id`, and
+/// links the label images.
+void WriteLabelsWithoutObject(const std::filesystem::path& labels, const std::filesystem::path& out_labels,
+                              int object_id);
+
 /// A mount error: T_camera_object * T_object_mount with a fixed translation (metres) and rotation (deg)
 /// about random directions.
 Perturbation MountError(double translation_m, double angle_deg, uint32_t seed);

@@ -5,6 +5,7 @@
 #include "core/check.h"
 #include "session/reader.h"
 #include "sim/demo/contact_sheet.h"
+#include "sim/demo/validate_stage.h"
 #include "sim/demo/visible_masks.h"
 #include "sim/record/truth_io.h"
 
@@ -71,11 +72,16 @@ void DemoOptions::check() const {
   if (out_dir.empty()) throw InputError("demo", "no output folder given (--out)");
   if (frames < 0) throw InputError("demo", "--frames must be >= 0");
   if (threads < 0) throw InputError("demo", "--threads must be >= 0");
+  if (validate_frame_stride < 1) throw InputError("demo", "--validate-every must be >= 1");
   context.check();
 }
 
 std::vector<DemoStage> DefaultDemoStages() {
-  return {{"record", RecordStage}, {"label", LabelStage}, {"score", ScoreStage}, {"contact_sheet", ContactSheetStage}};
+  return {{"record", RecordStage},
+          {"label", LabelStage},
+          {"validate", ValidateStage},
+          {"score", ScoreStage},
+          {"contact_sheet", ContactSheetStage}};
 }
 
 DemoResult RunDemo(const Scenario& scenario, const DemoOptions& options, const std::vector<DemoStage>& stages) {
@@ -117,6 +123,8 @@ nlohmann::json DemoJson(const DemoResult& r) {
           {"records_without_pose", c.scores.records_without_pose},
           {"segicp_success_rate", c.segicp_success_rate ? nlohmann::json(*c.segicp_success_rate) : nlohmann::json()},
           {"verdicts", c.verdicts},
+          {"validated_frames", c.validate_frame_stride > 0 ? nlohmann::json(c.validated_frames) : nlohmann::json()},
+          {"validate_frame_stride", c.validate_frame_stride > 0 ? nlohmann::json(c.validate_frame_stride) : nlohmann::json()},
           {"seconds_per_stage", seconds},
           {"outputs", c.outputs},
           {"notes", c.notes}};

@@ -4,10 +4,9 @@
 //   record   simulate the scenario and write the session (sim record; frames go to the session writer
 //            directly: the capture daemon stage is to replace this one)
 //   label    the labeller, as a library, with the calibration the recording hands it (rig.yaml content)
+//   validate the SegICP session check of the labels against the measured depth (validate_stage.h)
 //   score    labels against the truth (scoring.h)
 //   contact_sheet
-// A validation stage (SegICP) slots in after `label` and fills `segicp_success_rate` and `verdicts`;
-// until one exists they stay unset and the JSON has them as null.
 #include <filesystem>
 #include <functional>
 #include <map>
@@ -27,6 +26,9 @@ struct DemoOptions {
   std::filesystem::path out_dir;  ///< replaced if it holds an earlier demo (demo.json), else must be empty
   int frames = 0;                 ///< 0: the scenario's frame count; else the first N frames
   int threads = 0;                ///< 0: one per core
+  /// The validate stage checks the frames whose index is a multiple of this (1: every frame). The
+  /// default keeps the default demo within its time budget on 2 cores (docs/demo.md).
+  int validate_frame_stride = 15;
   RenderContextOptions context;
   void check() const;  ///< throws InputError
 };
@@ -40,8 +42,10 @@ struct DemoContext {
   LabelSummary label;
   std::filesystem::path labels_dir;
   LabelScores scores;
-  std::optional<double> segicp_success_rate;  ///< filled by a validation stage
-  nlohmann::json verdicts;                    ///< filled by a validation stage; null until then
+  std::optional<double> segicp_success_rate;  ///< filled by the validate stage (unset: nothing checkable)
+  nlohmann::json verdicts;                    ///< filled by the validate stage; null until then
+  int64_t validated_frames = 0;               ///< frames whose records the validate stage checked
+  int validate_frame_stride = 0;              ///< the stride it used; 0: no validate stage ran
   std::map<std::string, std::string> outputs;  ///< name -> path
   std::vector<std::string> notes;              ///< one line each, printed in the summary
 };
@@ -51,7 +55,7 @@ struct DemoStage {
   std::function<void(DemoContext&)> run;
 };
 
-/// record, label, score, contact_sheet (in that order).
+/// record, label, validate, score, contact_sheet (in that order).
 std::vector<DemoStage> DefaultDemoStages();
 
 struct DemoResult {
