@@ -29,8 +29,7 @@ test-unit: build
 # Unit tests again under AddressSanitizer + UndefinedBehaviorSanitizer (end-to-end runs excluded: slow).
 # Tests that render through EGL run without LeakSanitizer: Mesa's llvmpipe keeps process-lifetime
 # allocations made from JIT code and unloaded driver modules, which LeakSanitizer cannot attribute to a
-# library and so cannot suppress. AddressSanitizer and UBSan still check them. (Selected by test name:
-# ctest keeps only the first of several labels of a discovered gtest.)
+# library and so cannot suppress. AddressSanitizer and UBSan still check them. (Selected by test binary.)
 EGL_TESTS = ^(render_egl_test|label_test|labeller_test|validate_egl_test)/
 SAN_ENV = ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 test-asan: build-asan

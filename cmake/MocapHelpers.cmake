@@ -24,7 +24,7 @@ function(mocap_add_library)
 endfunction()
 
 # mocap_add_test(NAME module_what SRCS ... DEPS ... LABELS ...)
-# Registers each GoogleTest case with ctest as "module/Suite.Case" with the given labels.
+# Registers each GoogleTest case with ctest as "module/Suite.Case" with the given labels (joined).
 function(mocap_add_test)
   cmake_parse_arguments(ARG "" "NAME" "SRCS;DEPS;LABELS" ${ARGN})
   add_executable(${ARG_NAME} ${ARG_SRCS})
@@ -33,7 +33,11 @@ function(mocap_add_test)
     MOCAP_SHARED_DIR="${MOCAP_SHARED_DIR}" MOCAP_SOURCE_DIR="${CMAKE_SOURCE_DIR}"
     MOCAP_BINARY_DIR="${CMAKE_BINARY_DIR}")
   mocap_set_warnings(${ARG_NAME})
-  gtest_discover_tests(${ARG_NAME} TEST_PREFIX "${ARG_NAME}/" PROPERTIES LABELS "${ARG_LABELS}"
+  # One label joined with '-' ("sim-egl-e2e"): gtest_discover_tests passes a list property on as its
+  # first element only, and ctest's -L / -LE take regular expressions, so `-L sim` and `-LE e2e` both
+  # match the joined label.
+  string(JOIN "-" label ${ARG_LABELS})
+  gtest_discover_tests(${ARG_NAME} TEST_PREFIX "${ARG_NAME}/" PROPERTIES LABELS "${label}"
                        DISCOVERY_TIMEOUT 60)
 endfunction()
 
