@@ -12,21 +12,23 @@ extern char** environ;
 
 namespace mocap::testing {
 
-ProcessResult RunProcess(const std::vector<std::string>& argv, const std::map<std::string, std::string>& env,
-                         const std::filesystem::path& log_file) {
-  std::vector<std::string> env_strings;
+SpawnArgs::SpawnArgs(const std::vector<std::string>& argv, const std::map<std::string, std::string>& env)
+    : arg_strings(argv) {
   for (char** e = environ; *e; ++e) {
     const std::string entry = *e;
     const std::string key = entry.substr(0, entry.find('='));
     if (!env.count(key)) env_strings.push_back(entry);
   }
   for (const auto& [key, value] : env) env_strings.push_back(key + "=" + value);
-  std::vector<char*> envp, args;
   for (auto& s : env_strings) envp.push_back(s.data());
   envp.push_back(nullptr);
-  std::vector<std::string> argv_copy = argv;
-  for (auto& s : argv_copy) args.push_back(s.data());
+  for (auto& s : arg_strings) args.push_back(s.data());
   args.push_back(nullptr);
+}
+
+ProcessResult RunProcess(const std::vector<std::string>& argv, const std::map<std::string, std::string>& env,
+                         const std::filesystem::path& log_file) {
+  SpawnArgs spawn(argv, env);
 
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
@@ -34,7 +36,7 @@ ProcessResult RunProcess(const std::vector<std::string>& argv, const std::map<st
   posix_spawn_file_actions_adddup2(&actions, 1, 2);
   pid_t pid = 0;
   ProcessResult result;
-  const int rc = posix_spawn(&pid, args[0], &actions, nullptr, args.data(), envp.data());
+  const int rc = posix_spawn(&pid, spawn.args[0], &actions, nullptr, spawn.args.data(), spawn.envp.data());
   posix_spawn_file_actions_destroy(&actions);
   if (rc != 0) {
     result.output = std::string("posix_spawn failed: ") + std::strerror(rc);
