@@ -1,9 +1,6 @@
 // The pipeline in process: bounded queues, the Recorder with simulated sources, drops that are
 // counted and logged, and a disk that fills.
 #include <gtest/gtest.h>
-#include <sched.h>
-#include <sys/mount.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <cstring>
@@ -15,6 +12,7 @@
 #include "capture/daemon/sources.h"
 #include "session/reader.h"
 #include "session/stats.h"
+#include "../session/full_disk.h"
 #include "test_dirs.h"
 
 namespace mocap::capture {
@@ -98,20 +96,7 @@ TEST(Recorder, DropsWhenTheWriterFallsBehindAreCountedAndLogged) {
 
 // In a child with its own mount namespace: the daemon records into a 1 MiB tmpfs until it is full.
 std::string FillDiskThroughDaemon(const fs::path& mount_point) {
-  int fds[2];
-  if (::pipe(fds) != 0) return "FAIL pipe";
-  const pid_t child = ::fork();
-  if (child == 0) {
-    ::close(fds[0]);
-    auto say = [&](const std::string& text) {
-      (void)!::write(fds[1], text.data(), text.size());
-      ::_exit(0);
-    };
-    const int flags = ::geteuid() == 0 ? CLONE_NEWNS : (CLONE_NEWUSER | CLONE_NEWNS);
-    if (::unshare(flags) != 0) say(std::string("SKIP unshare: ") + std::strerror(errno));
-    if (::mount("none", "/", nullptr, MS_REC | MS_PRIVATE, nullptr) != 0 ||
-        ::mount("tmpfs", mount_point.c_str(), "tmpfs", 0, "size=1m") != 0)
-      say(std::string("SKIP mount tmpfs: ") + std::strerror(errno));
+  return testing::RunOnFullDiskInChild(mount_point, [&](const testing::SayFn& say) {
     try {
       std::vector<std::unique_ptr<CaptureSource>> sources;
       sources.push_back(CreateSimulatedCamera({.stream = "cam", .width = 320, .height = 240, .rate_hz = 200}));
@@ -133,15 +118,7 @@ std::string FillDiskThroughDaemon(const fs::path& mount_point) {
     } catch (const std::exception& e) {
       say(std::string("FAIL ") + e.what());
     }
-  }
-  ::close(fds[1]);
-  std::string message;
-  char buffer[512];
-  for (ssize_t n; (n = ::read(fds[0], buffer, sizeof(buffer))) > 0;) message.append(buffer, static_cast<size_t>(n));
-  ::close(fds[0]);
-  int status = 0;
-  ::waitpid(child, &status, 0);
-  return message.empty() ? "FAIL the child died without a word" : message;
+  });
 }
 
 TEST(CaptureDaemon, FullDiskStopsTheSessionWithAClearError) {

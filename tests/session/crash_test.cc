@@ -1,8 +1,6 @@
 // Crash safety: a writer killed with SIGKILL mid-stream, and a writer whose disk fills up.
 #include <gtest/gtest.h>
-#include <sched.h>
 #include <signal.h>
-#include <sys/mount.h>
 #include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
@@ -14,6 +12,7 @@
 
 #include "session/reader.h"
 #include "session/writer.h"
+#include "full_disk.h"
 #include "session_test_util.h"
 
 namespace mocap {
@@ -114,20 +113,7 @@ TEST(CrashSafety, SigkillMidStreamKeepsEverythingFlushedBeforeTheLastSecond) {
 /// In a child with its own mount namespace, mounts a 1 MiB tmpfs and writes until the disk is full.
 /// Returns "SKIP ..." when a tmpfs cannot be mounted, "OK ..." or a failure description.
 std::string FillDiskInChild(const fs::path& mount_point) {
-  int fds[2];
-  if (::pipe(fds) != 0) return "pipe failed";
-  const pid_t child = ::fork();
-  if (child == 0) {
-    ::close(fds[0]);
-    auto say = [&](const std::string& text) {
-      (void)!::write(fds[1], text.data(), text.size());
-      ::_exit(0);
-    };
-    const int flags = ::geteuid() == 0 ? CLONE_NEWNS : (CLONE_NEWUSER | CLONE_NEWNS);
-    if (::unshare(flags) != 0) say(std::string("SKIP unshare: ") + std::strerror(errno));
-    if (::mount("none", "/", nullptr, MS_REC | MS_PRIVATE, nullptr) != 0 ||
-        ::mount("tmpfs", mount_point.c_str(), "tmpfs", 0, "size=1m") != 0)
-      say(std::string("SKIP mount tmpfs: ") + std::strerror(errno));
+  return testing::RunOnFullDiskInChild(mount_point, [&](const testing::SayFn& say) {
     std::string error;
     try {
       auto writer = SessionWriter::Create(mount_point / "S", testing::TwoCameraManifest());
@@ -149,15 +135,7 @@ std::string FillDiskInChild(const fs::path& mount_point) {
     } catch (const std::exception& e) {
       say(std::string("FAIL reading the full session: ") + e.what());
     }
-  }
-  ::close(fds[1]);
-  std::string message;
-  char buffer[512];
-  for (ssize_t n; (n = ::read(fds[0], buffer, sizeof(buffer))) > 0;) message.append(buffer, static_cast<size_t>(n));
-  ::close(fds[0]);
-  int status = 0;
-  ::waitpid(child, &status, 0);
-  return message.empty() ? "FAIL the child died without a word" : message;
+  });
 }
 
 TEST(CrashSafety, FullDiskRaisesErrorAndLeavesOnlyWholeFrames) {
