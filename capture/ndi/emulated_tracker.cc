@@ -237,7 +237,7 @@ HandleReport EmulatedTracker::Report(int body, uint32_t frame, uint16_t options)
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
   HandleReport report;
   report.has_port_status = true;
-  report.port_status = kHealthyPort;
+  report.port_status = kHealthyPort | truth.port_status_bits;
   report.frame_number = frame;
   const bool dropped = uniform(rng) < options_.dropout;
   Eigen::Vector3d t_mm = truth.T_tracker_body.translation() * 1e3;

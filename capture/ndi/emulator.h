@@ -59,6 +59,8 @@ class Emulator {
   EmulatorStats stats() const;
   /// Seconds since Start() (or since construction, when only ServeFd is used).
   double Elapsed() const;
+  /// CLOCK_MONOTONIC time (ns) of tracking time 0, the origin of Elapsed().
+  int64_t start_ns() const { return start_ns_; }
   /// The tracker model of this emulator (for ground truth in tests: FrameAt, TimeOfFrame, Report).
   const EmulatedTracker& model() const { return model_; }
 

@@ -1,7 +1,7 @@
 #pragma once
 // Where the emulated tracker's bodies are: a source of ground-truth poses over time. Scripted motion
-// (static / circle / linear) is built in; a recorded session's tracker stream can be served by
-// another TrajectorySource implementation.
+// (static / circle / linear) is built in; a recorded tracker stream is served by RecordedTrajectory
+// (recorded_trajectory.h).
 //
 // Script format (text, one statement per line, '#' starts a comment; lengths in mm as the tracker
 // reports them, times in seconds since tracking started):
@@ -11,6 +11,7 @@
 //   circle NAME CX CY CZ RADIUS PERIOD_S [PHASE_DEG]      circle in the x-y plane, yawing with the motion
 //   linear NAME X Y Z VX VY VZ                            constant velocity (mm/s), fixed orientation
 //   missing NAME START_S END_S                            the body is reported MISSING in [start, end)
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <string>
@@ -25,6 +26,9 @@ namespace mocap::ndi {
 struct BodyState {
   Rigid3d T_tracker_body;  ///< metres
   bool forced_missing = false;
+  /// Port-status bits to report besides the volume check (reply.h port_status: out of volume,
+  /// partially in volume), for a source that knows them (a recording).
+  uint32_t port_status_bits = 0;
 };
 
 class TrajectorySource {
@@ -32,7 +36,8 @@ class TrajectorySource {
   virtual ~TrajectorySource() = default;
   virtual int body_count() const = 0;
   virtual std::string body_name(int body) const = 0;
-  /// Precondition: 0 <= body < body_count(), t_s >= 0. Must be thread-safe (const).
+  /// Precondition: 0 <= body < body_count(), t_s >= 0 (seconds since tracking started). Must be
+  /// thread-safe (const).
   virtual BodyState At(int body, double t_s) const = 0;
 };
 
