@@ -12,6 +12,7 @@ namespace fs = std::filesystem;
 
 void CaptureDaemonOptions::check() const {
   if (sessions_dir.empty()) throw InputError("sessions_dir", "is empty: say where sessions go");
+  if (!manifest_extra.is_object()) throw InputError("manifest_extra", "must be a JSON object");
   RecorderOptions r = recorder;
   r.session_dir = sessions_dir / "x";
   r.check();
@@ -120,7 +121,8 @@ SessionManifest CaptureDaemon::BuildManifest() const {
   SessionManifest manifest;
   manifest.source = "capture";
   for (const auto& source : sources_) AddStream(manifest, source->stream_info());
-  manifest.extra = {{"rig", options_.rig_name}};
+  manifest.extra = options_.manifest_extra;
+  manifest.extra["rig"] = options_.rig_name;
   return manifest;
 }
 

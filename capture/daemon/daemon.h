@@ -21,6 +21,7 @@ namespace mocap::capture {
 struct CaptureDaemonOptions {
   std::filesystem::path sessions_dir;  ///< sessions are created as <sessions_dir>/<name>
   std::string rig_name{};                ///< recorded in the manifest's extra
+  nlohmann::json manifest_extra = nlohmann::json::object();  ///< more fields for the manifest's extra
   RecorderOptions recorder{};           ///< session_dir is filled per session
   void check() const;
 };

@@ -8,6 +8,7 @@
 
 #include "capture/daemon/control_server.h"
 #include "capture/daemon/daemon.h"
+#include "capture/daemon/rerecord.h"
 #include "capture/daemon/sources.h"
 #include "cli/commands.h"
 #include "cli/rig_yaml.h"
@@ -203,6 +204,19 @@ void PrintStatus(const nlohmann::json& s) {
   std::printf("disk: %s\n", s["disk"].dump().c_str());
 }
 
+int PrintReplay(const capture::RerecordResult& r, bool json) {
+  const nlohmann::json result = {{"complete", r.complete}, {"source_frames", r.source_frames},
+                                 {"recorded_frames", r.recorded_frames}, {"dropped_frames", r.dropped_frames},
+                                 {"tracker_rate_hz", r.tracker_rate_hz}, {"poll_rate_hz", r.poll_rate_hz},
+                                 {"camera", r.camera}, {"tracker", r.tracker}, {"summary", r.summary}, {"seconds", r.seconds}};
+  if (json) std::printf("%s\n", result.dump().c_str());
+  else std::printf("replayed %lld of %lld frames (%lld late, at most %.1f ms), tracker %.1f Hz polled at %.0f Hz: %s\n",
+                   static_cast<long long>(r.recorded_frames), static_cast<long long>(r.source_frames),
+                   r.camera.value("late_frames", 0LL), r.camera.value("max_late_ms", 0.0), r.tracker_rate_hz, r.poll_rate_hz,
+                   r.complete ? "complete" : "INCOMPLETE");
+  return r.complete ? 0 : 1;
+}
+
 void AddClientFlags(CLI::App* command, ClientFlags& flags) {
   command->add_option("--host", flags.host, "daemon address")->capture_default_str();
   command->add_option("--port", flags.port, "daemon control port")->capture_default_str();
@@ -235,7 +249,21 @@ int RunCapture(int argc, char** argv) {
   CLI::App* stop = app.add_subcommand("stop", "stop the session and close it");
   CLI::App* status = app.add_subcommand("status", "rates, drops, queues, disk, visible bodies");
   for (CLI::App* command : {start, stop, status}) AddClientFlags(command, flags);
+  CLI::App* replay = app.add_subcommand("replay", "re-record a session through the daemon in real time (NDI emulator + camera replay)");
+  capture::RerecordOptions rerecord;
+  std::string replay_source, replay_out;
+  bool replay_json = false;
+  replay->add_option("source", replay_source, "session to replay (one camera, one tracker)")->required();
+  replay->add_option("--out", replay_out, "new session folder (must not exist)")->required();
+  replay->add_option("--poll-factor", rerecord.poll_factor, "BX polls per tracker frame")->capture_default_str();
+  replay->add_flag("--json", replay_json, "print the result as JSON");
   CLI11_PARSE(app, argc, argv);
+
+  if (replay->parsed()) {
+    rerecord.source_session = replay_source;
+    rerecord.out_session = replay_out;
+    return PrintReplay(capture::RerecordSession(rerecord), replay_json);
+  }
 
   if (daemon->parsed())
     return RunDaemon(rig_path, sessions.empty() ? std::nullopt : std::optional<fs::path>(sessions), control,

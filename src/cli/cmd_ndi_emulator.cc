@@ -12,7 +12,9 @@
 #include <mutex>
 #include <nlohmann/json.hpp>
 
+#include "capture/daemon/session_replay.h"
 #include "capture/ndi/emulator.h"
+#include "capture/ndi/recorded_trajectory.h"
 #include "capture/ndi/trajectory.h"
 #include "cli/commands.h"
 #include "core/check.h"
@@ -60,13 +62,21 @@ class TruthWriter {
   std::mutex mutex_;
 };
 
+// A session's tracker stream; tracking time 0 is the session's first stamp (camera or tracker).
+std::shared_ptr<const ndi::TrajectorySource> ReplayTrajectory(const std::string& session_dir, const std::string& tracker) {
+  const SessionReader session = SessionReader::Open(session_dir);
+  ndi::RecordedTrajectoryOptions options;
+  options.origin_ns = capture::FirstStampNs(session);
+  return std::make_shared<ndi::RecordedTrajectory>(capture::RecordedBodies(session, tracker), options);
+}
+
 }  // namespace
 
 int RunNdiEmulator(int argc, char** argv) {
   CLI::App app{"Emulate an NDI tracker (Combined API over TCP or a pseudo-terminal)", "mocaplabel ndi-emulator"};
   ndi::EmulatorOptions options;
   int bodies = 2;
-  std::string script_path, truth_path;
+  std::string script_path, truth_path, replay_path, replay_tracker;
   double duration_s = 0;
   bool passive = false, pty = false, json = false;
   app.add_option("--port", options.port, "TCP port (0: any free port)")->capture_default_str();
@@ -78,7 +88,10 @@ int RunNdiEmulator(int argc, char** argv) {
   app.add_option("--latency-ms", options.latency_ms, "delay before each BX/TX reply, ms")->capture_default_str();
   app.add_option("--corrupt", options.corrupt, "probability a BX/TX reply gets one byte flipped")->capture_default_str();
   app.add_option("--seed", options.tracker.seed, "seed of noise, dropouts and corruption")->capture_default_str();
-  app.add_option("--script", script_path, "trajectory script (docs/ndi.md)");
+  CLI::Option* script_option = app.add_option("--script", script_path, "trajectory script (docs/ndi.md)");
+  app.add_option("--replay", replay_path, "serve a recorded session's tracker stream instead (e.g. from `sim record`)")
+      ->excludes(script_option);
+  app.add_option("--replay-tracker", replay_tracker, "tracker stream of --replay (default: the session's only one)");
   app.add_flag("--passive", passive, "no preloaded handles: tools must be requested with PHRQ and uploaded with PVWR");
   app.add_flag("--pty", pty, "serve on a pseudo-terminal (serial path) instead of TCP; prints its path");
   app.add_option("--truth", truth_path, "write every served BX/TX body to this CSV (ground truth)");
@@ -88,11 +101,16 @@ int RunNdiEmulator(int argc, char** argv) {
 
   if (duration_s < 0) throw InputError("--duration", "must not be negative");
   if (bodies < 1 || bodies > 200) throw InputError("--bodies", Str(bodies, " is not in [1, 200]"));
-  ndi::TrajectoryScript script = script_path.empty() ? ndi::DefaultTrajectoryScript(bodies)
-                                                     : ndi::LoadTrajectoryScript(script_path);
-  options.tracker.volume = script.volume;
   options.tracker.preloaded_handles = !passive;
-  auto trajectory = std::make_shared<ndi::ScriptedTrajectory>(script);
+  std::shared_ptr<const ndi::TrajectorySource> trajectory;
+  if (!replay_path.empty()) {
+    trajectory = ReplayTrajectory(replay_path, replay_tracker);
+  } else {
+    ndi::TrajectoryScript script = script_path.empty() ? ndi::DefaultTrajectoryScript(bodies)
+                                                       : ndi::LoadTrajectoryScript(script_path);
+    options.tracker.volume = script.volume;
+    trajectory = std::make_shared<ndi::ScriptedTrajectory>(script);
+  }
 
   sigset_t signals;
   sigemptyset(&signals);
