@@ -1,11 +1,13 @@
 // mocaplabel demo [--out DIR] [--json] [--scenario F] [--frames N]: the whole tool on the simulated rig
-// (docs/demo.md): simulate, label, validate (SegICP), score against the truth, contact sheet.
+// (docs/demo.md): simulate, record through the capture daemon, label, validate (SegICP), score against
+// the truth, contact sheet.
 #include <CLI/CLI.hpp>
 #include <cmath>
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.h"
+#include "cli/demo_capture.h"
 #include "cli/scenario_yaml.h"
 #include "core/check.h"
 #include "sim/demo/demo_pipeline.h"
@@ -42,7 +44,7 @@ void PrintHuman(const sim::DemoResult& r) {
 }  // namespace
 
 int RunDemo(int argc, char** argv) {
-  CLI::App app{"The whole tool on the simulated rig: simulate, label, score against the truth", "mocaplabel demo"};
+  CLI::App app{"The whole tool on the simulated rig: simulate, record through the capture daemon, label, validate, score", "mocaplabel demo"};
   sim::DemoOptions options;
   options.out_dir = "demo-out/sim";
   std::string out_dir = options.out_dir.string(), scenario_path, platform = "auto";
@@ -59,7 +61,7 @@ int RunDemo(int argc, char** argv) {
   options.out_dir = out_dir;
   options.context.platform = EglPlatformFromString(platform);
   const sim::Scenario scenario = scenario_path.empty() ? sim::DefaultScenario() : LoadScenarioYaml(scenario_path);
-  const sim::DemoResult result = sim::RunDemo(scenario, options, sim::DefaultDemoStages());
+  const sim::DemoResult result = sim::RunDemo(scenario, options, DemoStagesThroughDaemon());
   const nlohmann::json summary = sim::DemoJson(result);
   sim::WriteJsonFile(options.out_dir / "demo.json", summary);
   if (json) std::printf("%s\n", summary.dump().c_str());

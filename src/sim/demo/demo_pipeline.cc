@@ -16,7 +16,7 @@ namespace fs = std::filesystem;
 
 void RecordStage(DemoContext& c) {
   RecordOptions options;
-  options.out_dir = c.options.out_dir / "session";
+  options.out_dir = c.options.out_dir / "simulated";
   options.threads = c.options.threads;
   options.context = c.options.context;
   c.record = RecordSimulation(c.scenario, c.library, {}, options);
@@ -24,7 +24,6 @@ void RecordStage(DemoContext& c) {
   c.outputs["truth"] = c.record.truth_dir.string();
   c.outputs["rig"] = c.record.rig_file.string();
   c.outputs["objects"] = c.record.objects_file.string();
-  c.notes.push_back("recorded with the session writer directly (not through the capture daemon)");
 }
 
 void LabelStage(DemoContext& c) {
@@ -98,6 +97,7 @@ DemoResult RunDemo(const Scenario& scenario, const DemoOptions& options, const s
     stage.run(c);
     result.seconds_per_stage.emplace_back(stage.name, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   }
+  if (c.capture.is_null()) c.notes.push_back("recorded with the session writer directly (no capture stage ran)");
   return result;
 }
 
@@ -125,6 +125,7 @@ nlohmann::json DemoJson(const DemoResult& r) {
           {"verdicts", c.verdicts},
           {"validated_frames", c.validate_frame_stride > 0 ? nlohmann::json(c.validated_frames) : nlohmann::json()},
           {"validate_frame_stride", c.validate_frame_stride > 0 ? nlohmann::json(c.validate_frame_stride) : nlohmann::json()},
+          {"capture", c.capture},
           {"seconds_per_stage", seconds},
           {"outputs", c.outputs},
           {"notes", c.notes}};

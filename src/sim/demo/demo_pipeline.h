@@ -1,8 +1,10 @@
 #pragma once
 // `mocaplabel demo`: the whole tool on the simulated rig, as a list of stages over one shared context
 // (docs/demo.md). The default stages are
-//   record   simulate the scenario and write the session (sim record; frames go to the session writer
-//            directly: the capture daemon stage is to replace this one)
+//   record   simulate the scenario and write the simulated session (sim record, with the session writer)
+// `mocaplabel demo` inserts a `capture` stage after it (src/cli/demo_capture.h) that plays the simulated
+// session through the capture daemon in real time (capture/daemon/rerecord.h); the later stages then
+// work on the session the daemon wrote, with the simulated one's truth and calibration files.
 //   label    the labeller, as a library, with the calibration the recording hands it (rig.yaml content)
 //   validate the SegICP session check of the labels against the measured depth (validate_stage.h)
 //   score    labels against the truth (scoring.h)
@@ -38,7 +40,8 @@ struct DemoContext {
   DemoOptions options;
   Scenario scenario;
   ObjectLibrary library;
-  RecordResult record;
+  RecordResult record;  ///< session_dir: the session the later stages read (the daemon's, after `capture`)
+  nlohmann::json capture;  ///< filled by a capture stage (frames, drops, tracker link); null: none ran
   LabelSummary label;
   std::filesystem::path labels_dir;
   LabelScores scores;

@@ -83,10 +83,13 @@ std::string Stem(int64_t index) {
 /// Scores the records of one frame into `scores`.
 void ScoreFrame(const std::vector<nlohmann::json>& records, const TruthPoses& truth, const fs::path& labels_dir,
                 const fs::path& truth_dir, const SessionReader* session, VisibleMaskRenderer* masks, LabelScores& scores) {
+  // `index` is the record's place in the labelled session, `frame` the simulated frame it shows (they
+  // differ once a recording dropped frames); the truth is kept by simulated frame.
   const int64_t index = records[0].at("index").get<int64_t>();
+  const int64_t frame = records[0].at("frame").get<int64_t>();
   const std::string camera = records[0].at("camera").get<std::string>();
   ++scores.frames;
-  const auto frame_truth = truth.find(index);
+  const auto frame_truth = truth.find(frame);
   std::vector<LabelledPose> poses;
   std::vector<RecordScore> scored;
   for (const nlohmann::json& r : records) {
@@ -97,17 +100,17 @@ void ScoreFrame(const std::vector<nlohmann::json>& records, const TruthPoses& tr
     ++scores.records_with_pose;
     const std::string name = r.at("name").get<std::string>();
     if (frame_truth == truth.end() || !frame_truth->second.count(name))
-      throw InputError((labels_dir / "labels.jsonl").string(), Str("record of '", name, "' in frame ", index, " has no truth in ", truth_dir.string()));
+      throw InputError((labels_dir / "labels.jsonl").string(), Str("record of '", name, "' in frame ", frame, " has no truth in ", truth_dir.string()));
     const TrueObject& t = frame_truth->second.at(name);
     const auto rv = r.at("rvec").get<std::vector<double>>(), tm = r.at("t_m").get<std::vector<double>>();
     const Rigid3d label = Rigid3d::FromRvec({rv.at(0), rv.at(1), rv.at(2)}, {tm.at(0), tm.at(1), tm.at(2)});
     poses.push_back({name, static_cast<uint16_t>(r.at("instance").get<int>()), label});
-    scored.push_back({index, name, 1000.0 * (label.translation() - t.T_camera_mesh.translation()).norm(),
+    scored.push_back({frame, name, 1000.0 * (label.translation() - t.T_camera_mesh.translation()).norm(),
                       RotationDistanceDeg(label, t.T_camera_mesh)});
   }
   if (scored.empty()) return;
   const cv::Mat label_ids = ReadLabelPng(labels_dir / camera / "instance" / (Stem(index) + ".png"));
-  const cv::Mat true_ids = ReadLabelPng(truth_dir / "instance" / (Stem(index) + ".png"));
+  const cv::Mat true_ids = ReadLabelPng(truth_dir / "instance" / (Stem(frame) + ".png"));
   if (label_ids.size() != true_ids.size())
     throw InputError(labels_dir.string(), Str("instance image of frame ", index, " differs in size from the truth's"));
   std::map<uint16_t, Image<uint8_t>> measured;

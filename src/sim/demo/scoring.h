@@ -26,7 +26,7 @@ namespace mocap::sim {
 class VisibleMaskRenderer;
 
 struct RecordScore {
-  int64_t index = 0;  ///< camera record index
+  int64_t index = 0;  ///< the simulated frame (truth/poses.jsonl index) the record labels
   std::string object;
   double err_mm = 0, err_deg = 0;
   double iou = -1;        ///< -1 when both masks are empty
