@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# `make demo`: the whole tool on the simulated rig (`mocaplabel demo`: simulate the default scenario,
-# label it, score the labels against the truth, contact sheet; docs/demo.md), then the parts of the
-# pipeline that run on real recordings from ../shared/realdata. Set DEMO_FRAMES to simulate fewer frames.
+# `make demo`: the whole tool on the simulated rig (`mocaplabel demo`: simulate the default scenario, record it
+# through the capture daemon, label it, validate it, score the labels against the truth, contact sheet;
+# docs/demo.md), then the parts of the pipeline that run on real recordings from ../shared/realdata. Set DEMO_FRAMES to simulate fewer frames.
 set -euo pipefail
 bin=${1:?usage: demo.sh MOCAPLABEL OUT_DIR}
 out=${2:?usage: demo.sh MOCAPLABEL OUT_DIR}
@@ -14,7 +14,7 @@ echo "== 1. headless rendering check (mocaplabel doctor)"
 "$bin" doctor
 
 echo
-echo "== 2. the simulated rig end to end: simulate, label, score against the truth (mocaplabel demo)"
+echo "== 2. the simulated rig end to end: simulate, record through the capture daemon, label, validate, score (mocaplabel demo)"
 "$bin" demo --out "$out/sim" --frames "${DEMO_FRAMES:-0}"
 
 echo
@@ -29,5 +29,5 @@ echo "== 4. real scanned meshes and poses (BOP LM-O scene 2): import, then label
 "$bin" label "$out/bop_session" --out "$out/bop_labels" --overlay
 
 echo
-echo "outputs in $out: sim/ (demo.json, contact_sheet.png, session/ with truth/, labels/), tum_session/,"
+echo "outputs in $out: sim/ (demo.json, contact_sheet.png, simulated/ with truth/, session/, labels/), tum_session/,"
 echo "bop_session/, bop_labels/ (labels.jsonl, masks, overlays in bop_labels/bop/overlay/)"

@@ -25,7 +25,7 @@ void CaptureStage(sim::DemoContext& c) {
                {"max_late_ms", r.camera.value("max_late_ms", 0.0)},
                {"tracker_rate_hz", r.tracker_rate_hz},
                {"tracker_poll_rate_hz", r.poll_rate_hz},
-               {"tracker_samples", r.tracker.value("samples", int64_t{0})},
+               {"tracker_frames", r.tracker.value("samples", int64_t{0})},
                {"tracker_crc_errors", r.tracker.value("crc_errors", int64_t{0})},
                {"streams", r.summary.at("streams")},
                {"seconds", r.seconds}};
