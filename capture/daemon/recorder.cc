@@ -126,6 +126,7 @@ void Recorder::FrameLoop() {
       {
         std::lock_guard lock(mutex_);
         ++counters(frame->camera).written;
+        if (frame->record.device_ticks != 0) clocks_.Add(frame->camera, frame->record.device_ticks, frame->record.stamp_ns);
       }
       FlushDropEvents(false);
     } catch (const std::exception& e) {
@@ -141,6 +142,7 @@ void Recorder::WriteRecord(RecordItem& item) {
     writer_->WriteTrackerSample(sample->tracker, sample->record);
     std::lock_guard lock(mutex_);
     ++counters(sample->tracker).written;
+    if (sample->record.device_frame != 0) clocks_.Add(sample->tracker, sample->record.device_frame, sample->record.stamp_ns);
   } else {
     writer_->WriteEvent(std::get<EventRecord>(item));
     std::lock_guard lock(mutex_);
@@ -180,6 +182,7 @@ RecorderSummary Recorder::Stop() {
   try {
     FlushDropEvents(true);
     if (!failed_) {
+      for (const auto& [stream, fit] : clocks_.Fit()) writer_->UpdateClockFit(stream, fit);
       writer_->Close();
       std::lock_guard lock(mutex_);
       complete_ = true;

@@ -6,6 +6,8 @@
 // and logged as a "drop" event (at most one per stream per drop_event_interval_ms, with the count):
 // never silently. A write error (a full disk, EIO) stops the session: nothing more is written, the
 // manifest stays complete = false, and error() says what failed (the writer's message names the file).
+// On a clean stop every stream's device clock is fitted onto the host clock (camera: device_ticks,
+// tracker: device_frame; clock_samples.h) and the fits go into the manifest's clock_fits.
 //
 //   auto recorder = Recorder::Start({.session_dir = "sessions/S"}, manifest);
 //   recorder->PushFrame({"kinect1", record, bgr, depth_mm});   // from any thread
@@ -23,6 +25,7 @@
 #include <variant>
 
 #include "capture/daemon/bounded_queue.h"
+#include "capture/daemon/clock_samples.h"
 #include "capture/daemon/source.h"
 #include "session/writer.h"
 
@@ -97,6 +100,7 @@ class Recorder final : public CaptureSink {
   std::thread frame_thread_, record_thread_;
   mutable std::mutex mutex_;  // guards everything below
   std::map<std::string, StreamCounters> streams_;
+  ClockSamples clocks_;
   int64_t last_drop_flush_ns_ = 0;
   std::map<std::string, int64_t> unreported_drops_;
   int64_t events_written_ = 0, events_dropped_ = 0;

@@ -64,6 +64,29 @@ TEST(Recorder, RecordsSimulatedSourcesWithoutDrops) {
   for (int64_t i = 0; i < 20; ++i) EXPECT_EQ(reader.frame("cam", i).record.frame, i);
   EXPECT_EQ(reader.LoadColor("cam", 19).cols, 160);
   EXPECT_EQ(reader.BodyRecords("trk", "body2").size(), 200u);
+  // Each device clock fitted onto the host clock: 2e6 ticks per 10 ms frame, one tracker frame per ms.
+  const auto& fits = reader.manifest().clock_fits;
+  ASSERT_TRUE(fits.count("cam") && fits.count("trk"));
+  EXPECT_NEAR(fits.at("cam").ns_per_tick, 10e6 / 2e6, 0.1 * 5) << "paced at 100 Hz; late wake-ups are outliers";
+  EXPECT_EQ(fits.at("cam").samples, 19) << "frame 0 has no device time";
+  EXPECT_NEAR(fits.at("trk").ns_per_tick, 1e6, 0.1 * 1e6);
+  EXPECT_EQ(fits.at("trk").samples, 199) << "one pair per tracker frame, not per body";
+}
+
+TEST(ClockSamples, KeepsOnePairPerDeviceValueAndThinsLongStreams) {
+  ClockSamples clocks(/*max_pairs=*/100);
+  for (int64_t f = 1; f <= 1000; ++f)
+    for (int body = 0; body < 3; ++body) clocks.Add("trk", f, 7'000'000 + f * 1'000'000 + body * 1000);
+  const std::map<std::string, ClockFit> fits = clocks.Fit();
+  ASSERT_TRUE(fits.count("trk"));
+  EXPECT_LE(fits.at("trk").samples, 100);
+  EXPECT_GE(fits.at("trk").samples, 50);
+  EXPECT_NEAR(fits.at("trk").ns_per_tick, 1e6, 1e-3);
+  EXPECT_NEAR(static_cast<double>(fits.at("trk").HostNs(500)), 507'000'000.0, 1.0) << "the first receive of frame 500";
+  ClockSamples constant;
+  constant.Add("cam", 5, 1);
+  constant.Add("cam", 5, 2);
+  EXPECT_TRUE(constant.Fit().empty()) << "a clock that never changed is not fitted";
 }
 
 TEST(Recorder, DropsWhenTheWriterFallsBehindAreCountedAndLogged) {
