@@ -5,7 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.h"
-#include "cli/objects_yaml.h"
+#include "cli/validation_objects.h"
 #include "core/check.h"
 #include "validate/validation_output.h"
 
@@ -14,14 +14,14 @@ namespace {
 
 namespace fs = std::filesystem;
 
+/// The object library with each object's declared symmetry: estimates of a symmetric object are compared
+/// with its labels modulo the symmetry (ApplySymmetry).
 std::vector<ValidationObject> FindObjects(const fs::path& session, const std::string& objects_flag) {
   fs::path file = objects_flag;
   if (file.empty()) file = session / "objects.yaml";
   if (!fs::exists(file))
     throw InputError(file.string(), "no object library; pass --objects (the one the label run used)");
-  std::vector<ValidationObject> objects;
-  for (const LabelObject& o : LoadObjectsYaml(file)) objects.push_back({o.id, o.name, o.mesh_path, o.unit_scale_to_m});
-  return objects;
+  return LoadValidationObjects(file);
 }
 
 void PrintHuman(const ValidationSummary& s, const fs::path& out) {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <vector>
 
 #include "core/check.h"
 
@@ -21,31 +22,94 @@ Rigid3d PlaceAtMedian(const Eigen::Matrix3d& R, const ModelCrop& crop, const Eig
   return Rigid3d(R, scene_median - R * crop_median);
 }
 
-/// ICP and score of every hypothesis, in parallel (the paper runs them "in parallel"), then the best.
-void RunHypotheses(const KdTree& scene_tree, const CropSource& model, const AcquisitionOptions& options,
-                   const AlignmentOptions& alignment, AcquisitionResult* result) {
+/// Every `stride`-th point, in order; the stride is lowered to keep at least 50 points where the cloud
+/// has them (the rule of IcpOptions::source_stride), so that small crops are not thinned to nothing.
+PointCloud EveryNth(const PointCloud& points, int stride) {
+  stride = std::min(stride, std::max(1, static_cast<int>(points.size()) / 50));
+  PointCloud out;
+  out.reserve(points.size() / static_cast<size_t>(stride) + 1);
+  for (size_t i = 0; i < points.size(); i += static_cast<size_t>(stride)) out.push_back(points[i]);
+  return out;
+}
+
+/// True when (score_a, rmse_a) ranks before (score_b, rmse_b) among candidates within `tie` of the
+/// top score `top`: a(M, S) saturates at 1 when a crop slides within a larger planar face, so tied
+/// scores are ranked by the inlier RMSE.
+bool RanksBefore(double score_a, double rmse_a, double score_b, double rmse_b, double top, double tie) {
+  const bool tied_a = score_a >= top - tie, tied_b = score_b >= top - tie;
+  if (tied_a != tied_b) return tied_a;
+  if (tied_a) return rmse_a < rmse_b;
+  return score_a > score_b;
+}
+
+/// Coarse stage: every hypothesis registered on every hypothesis_stride-th crop point and scored on the
+/// same points, in parallel (the paper runs the hypotheses "in parallel"). Returns the hypotheses'
+/// indices, best first.
+std::vector<int> RegisterCoarse(const KdTree& scene_tree, const AcquisitionOptions& options,
+                                const AlignmentOptions& alignment, AcquisitionResult* result) {
   auto& hyps = result->hypotheses;
 #pragma omp parallel for schedule(dynamic, 1)
   for (int i = 0; i < static_cast<int>(hyps.size()); ++i) {
-    const PointCloud& crop = result->crops[hyps[i].crop_index].points_model;
+    const PointCloud crop = EveryNth(result->crops[hyps[i].crop_index].points_model, options.hypothesis_stride);
     hyps[i].icp = AlignPointToPoint(crop, scene_tree, hyps[i].T_camera_model_init, options.icp);
     hyps[i].score = ScoreAlignment(crop, hyps[i].icp.T_target_source, scene_tree, alignment);
   }
   double top = -1.0;
   for (const auto& h : hyps) top = std::max(top, h.score.score);
-  for (int i = 0; i < static_cast<int>(hyps.size()); ++i) {
-    if (hyps[i].score.score < top - options.score_tie) continue;
-    if (result->best < 0 || hyps[i].icp.inlier_rmse_m < hyps[result->best].icp.inlier_rmse_m) result->best = i;
+  std::vector<int> order(hyps.size());
+  for (int i = 0; i < static_cast<int>(order.size()); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+    return RanksBefore(hyps[a].score.score, hyps[a].icp.inlier_rmse_m, hyps[b].score.score, hyps[b].icp.inlier_rmse_m,
+                       top, options.score_tie);
+  });
+  return order;
+}
+
+/// A hypothesis carried to the fine stage: re-cropped at its pose, refined on all crop points, scored.
+struct Refined {
+  ModelCrop crop;
+  IcpResult icp;
+  double score = 0.0;
+};
+
+/// Fine stage: the best refine_count hypotheses refined in parallel; the winner is the best refined
+/// one by the full a(M, S) (ties by inlier RMSE), so a hypothesis that the subsample ranked second can
+/// still win.
+void RefineBest(const KdTree& scene_tree, const CropSource& model, const AcquisitionOptions& options,
+                const AlignmentOptions& alignment, const std::vector<int>& order, AcquisitionResult* result) {
+  const int count = std::min<int>(options.refine_count, static_cast<int>(order.size()));
+  std::vector<Refined> refined(count);
+#pragma omp parallel for schedule(dynamic, 1)
+  for (int j = 0; j < count; ++j) {
+    const Rigid3d& T_coarse = result->hypotheses[order[j]].icp.T_target_source;
+    refined[j].crop = model.Crop(T_coarse);
+    refined[j].icp = AlignPointToPoint(refined[j].crop.points_model, scene_tree, T_coarse, options.refine_icp);
+    refined[j].score =
+        ScoreAlignment(refined[j].crop.points_model, refined[j].icp.T_target_source, scene_tree, alignment).score;
   }
-  if (result->best < 0) {
+  double top = -1.0;
+  for (const auto& r : refined) top = std::max(top, r.score);
+  int win = 0;
+  for (int j = 1; j < count; ++j)
+    if (RanksBefore(refined[j].score, refined[j].icp.inlier_rmse_m, refined[win].score,
+                    refined[win].icp.inlier_rmse_m, top, options.score_tie))
+      win = j;
+  result->best = order[win];
+  result->refine = refined[win].icp;
+  result->refined_crop = std::move(refined[win].crop);
+  result->T_camera_model = result->refine.T_target_source;
+  result->score = refined[win].score;
+}
+
+/// Coarse-to-fine hypothesis pruning (docs/validation.md "Acquisition"), then the epsilon test.
+void RunHypotheses(const KdTree& scene_tree, const CropSource& model, const AcquisitionOptions& options,
+                   const AlignmentOptions& alignment, AcquisitionResult* result) {
+  if (result->hypotheses.empty()) {
     result->reason = "no hypotheses";
     return;
   }
-  result->refined_crop = model.Crop(hyps[result->best].icp.T_target_source);
-  result->refine = AlignPointToPoint(result->refined_crop.points_model, scene_tree,
-                                     hyps[result->best].icp.T_target_source, options.refine_icp);
-  result->T_camera_model = result->refine.T_target_source;
-  result->score = ScoreAlignment(result->refined_crop.points_model, result->T_camera_model, scene_tree, alignment).score;
+  const std::vector<int> order = RegisterCoarse(scene_tree, options, alignment, result);
+  RefineBest(scene_tree, model, options, alignment, order, result);
   result->acquired = result->score >= options.epsilon;
   if (!result->acquired)
     result->reason = Str("best alignment score ", result->score, " below epsilon ", options.epsilon);
@@ -63,6 +127,8 @@ void AcquisitionOptions::check() const {
   if (!(prior_spread_deg >= 0 && prior_spread_deg <= 180))
     throw InputError("AcquisitionOptions", "prior_spread_deg must lie in [0, 180]");
   if (!(score_tie >= 0 && score_tie < 1)) throw InputError("AcquisitionOptions", "score_tie must lie in [0, 1)");
+  if (hypothesis_stride < 1) throw InputError("AcquisitionOptions", "hypothesis_stride must be >= 1");
+  if (refine_count < 1) throw InputError("AcquisitionOptions", "refine_count must be >= 1");
   icp.check();
   refine_icp.check();
 }

@@ -1,7 +1,9 @@
 #pragma once
 // The acquisition phase of the paper ("The Acquisition Phase"): N model crops, each initialised at the
 // median of the object's scene cloud, registered by point-to-point ICP in parallel, each scored by the
-// alignment metric a(M, S); the best score above epsilon starts tracking.
+// alignment metric a(M, S); the best score above epsilon starts tracking. Registered coarse-to-fine
+// (docs/validation.md "Acquisition"): all N on a subset of their crop points, ranked by the subset's
+// score; the best refine_count refined on their full crops and scored by the full a(M, S).
 #include <string>
 #include <vector>
 
@@ -27,29 +29,37 @@ struct AcquisitionOptions {
   int roll_steps = 1;
   /// Spread of the hypotheses about a prior orientation (AcquireAround), degrees.
   double prior_spread_deg = 20.0;
-  /// ICP per hypothesis: "a few iterations" (the paper) on every 8th crop point; only the winner
-  /// needs to converge, and it is refined below.
+  /// Coarse stage: each hypothesis is registered and ranked on every `hypothesis_stride`-th crop point
+  /// (about 150 of a 1,200-point crop). The ranking score is a(M, S) of that subset: an estimate of
+  /// the paper's score at an eighth of the cost; the reported score is the full one (fine stage).
+  int hypothesis_stride = 8;
+  /// ICP per hypothesis on that subset: "a few iterations" (the paper), gate 5 cm shrinking to 1 cm
+  /// by the 6th iteration; only the hypotheses that survive need to converge.
   IcpOptions icp = [] {
     IcpOptions o;
     o.initial_correspondence_distance_m = 0.05;
-    o.max_iterations = 20;
-    o.source_stride = 8;
+    o.max_iterations = 8;
     return o;
   }();
-  /// Hypotheses scoring within this of the best score count as tied; the tie goes to the lowest inlier
-  /// RMSE. a(M, S) saturates at 1 when a crop slides within a larger planar face, so it cannot rank
-  /// those alone.
+  /// Coarse-stage scores within this of the best count as tied; ties go to the lowest inlier RMSE.
+  /// a(M, S) saturates at 1 when a crop slides within a larger planar face, so it cannot rank those
+  /// alone. The same rule picks the winner of the fine stage.
   double score_tie = 0.02;
-  /// The winner is refined before it is reported ("a few iterations of the tracking phase" in the
-  /// paper): the crop is recomputed as seen from the winning pose (a crop from a neighbouring view
-  /// lacks part of the visible surface and can settle a few millimetres off) and registered on all its
-  /// points.
+  /// Fine stage: this many of the best-ranked hypotheses are refined (in parallel: 2 fills two
+  /// cores) and the best refined one wins. 1 trusts the coarse ranking alone.
+  int refine_count = 2;
+  /// The refinement ("a few iterations of the tracking phase" in the paper): the crop is recomputed as
+  /// seen from the hypothesis's pose (a crop from a neighbouring view lacks part of the visible
+  /// surface and can settle a few millimetres off) and registered, every 3rd point until converged,
+  /// then all of them, with Besl & McKay's acceleration against the slow slide along planar faces.
   IcpOptions refine_icp = [] {
     IcpOptions o;
     o.initial_correspondence_distance_m = 0.01;
     o.max_iterations = 100;
+    o.source_stride = 3;
     o.translation_epsilon_m = 2e-5;
     o.rotation_epsilon_deg = 0.005;
+    o.accelerate = true;
     return o;
   }();
   void check() const;
@@ -57,18 +67,18 @@ struct AcquisitionOptions {
 
 struct Hypothesis {
   Rigid3d T_camera_model_init;
-  IcpResult icp;
-  AlignmentScore score;
+  IcpResult icp;         ///< the coarse-stage ICP (on the crop subset)
+  AlignmentScore score;  ///< a(M, S) of the crop subset at icp's pose (the coarse ranking)
   int crop_index = 0;
 };
 
 struct AcquisitionResult {
   bool acquired = false;        ///< best score >= epsilon
   Rigid3d T_camera_model;       ///< best hypothesis (meaningful when hypotheses is non-empty)
-  double score = 0.0;           ///< a(M, S) of the best hypothesis after refinement
-  IcpResult refine;             ///< the refinement of the best hypothesis
+  double score = 0.0;           ///< a(M, S) of the winner after refinement (all crop points)
+  IcpResult refine;             ///< the refinement of the winner
   ModelCrop refined_crop;       ///< the crop visible from the refined pose
-  int best = -1;                ///< index into hypotheses
+  int best = -1;                ///< index into hypotheses: the one whose refinement won
   std::vector<Hypothesis> hypotheses;
   std::vector<ModelCrop> crops;  ///< the crop of each hypothesis (crop_index refers here)
   std::string reason;           ///< why nothing was acquired (empty when acquired)

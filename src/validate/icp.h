@@ -27,6 +27,16 @@ struct IcpOptions {
   int source_stride = 1;
   /// Fewer correspondences than this stops the registration (too little overlap to trust the SVD).
   int min_correspondences = 10;
+  /// Besl & McKay's accelerated ICP (validate/icp_acceleration.h) once the gate is at its final value:
+  /// point-to-point ICP creeps along planar faces, and extrapolating along a run of aligned updates
+  /// reaches the same optimum in fewer iterations. An extrapolated pose whose truncated error (gated
+  /// squared distances, gate^2 for points without a correspondence) exceeds that of the pose it came
+  /// from is undone.
+  bool accelerate = false;
+  /// Successive updates within this angle of each other count as aligned (Besl & McKay: 10 deg).
+  double acceleration_angle_deg = 10.0;
+  /// The longest extrapolation, in lengths of the last update (Besl & McKay: 25).
+  double acceleration_max_factor = 25.0;
   /// Throws InputError on non-positive distances, iterations or strides.
   void check() const;
 };

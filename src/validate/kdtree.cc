@@ -27,7 +27,14 @@ KdTree::KdTree(const PointCloud& points, int leaf_max_size) : points_(points.siz
   adaptor_ = std::make_unique<Adaptor>(Adaptor{&points_});
   index_ = std::make_unique<Index>(3, *adaptor_,
                                    nanoflann::KDTreeSingleIndexAdaptorParams(static_cast<size_t>(leaf_max_size)));
-  if (!points_.empty()) index_->buildIndex();
+  if (points_.empty()) return;
+  index_->buildIndex();
+  // Store the points in the tree's leaf order, so that a leaf's points are contiguous in memory (the
+  // search scans leaves); the tree then indexes them through the identity permutation.
+  std::vector<Eigen::Vector3f> ordered(points_.size());
+  for (size_t j = 0; j < ordered.size(); ++j) ordered[j] = points_[index_->vAcc[j]];
+  points_.swap(ordered);
+  for (size_t j = 0; j < points_.size(); ++j) index_->vAcc[j] = j;
 }
 
 KdTree::~KdTree() = default;
@@ -39,6 +46,8 @@ namespace {
 class NearestWithin {
  public:
   explicit NearestWithin(float bound_sq) : best_sq_(bound_sq) {}
+  /// Starts from a known point at `distance_sq` (<= the bound): only strictly closer points replace it.
+  NearestWithin(float distance_sq, size_t index) : best_sq_(distance_sq), index_(index), found_(true) {}
   size_t size() const { return found_ ? 1 : 0; }
   bool full() const { return true; }
   bool addPoint(float distance_sq, size_t index) {
@@ -66,6 +75,20 @@ bool KdTree::Nearest(const Eigen::Vector3d& query, double max_distance_m, size_t
   if (points_.empty()) return false;
   const Eigen::Vector3f q = query.cast<float>();
   NearestWithin result(static_cast<float>(max_distance_m * max_distance_m));
+  index_->findNeighbors(result, q.data(), nanoflann::SearchParams());
+  if (!result.found()) return false;
+  *index = result.index();
+  *distance_sq_m2 = (points_[result.index()] - q).squaredNorm();
+  return true;
+}
+
+bool KdTree::NearestFrom(const Eigen::Vector3d& query, double max_distance_m, size_t* index,
+                         double* distance_sq_m2) const {
+  if (points_.empty()) return false;
+  const Eigen::Vector3f q = query.cast<float>();
+  const float bound_sq = static_cast<float>(max_distance_m * max_distance_m);
+  const float hint_sq = *index < points_.size() ? (points_[*index] - q).squaredNorm() : bound_sq;
+  NearestWithin result = hint_sq < bound_sq ? NearestWithin(hint_sq, *index) : NearestWithin(bound_sq);
   index_->findNeighbors(result, q.data(), nanoflann::SearchParams());
   if (!result.found()) return false;
   *index = result.index();

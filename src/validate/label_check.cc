@@ -120,7 +120,14 @@ Rigid3d NearestSymmetricPose(const Rigid3d& T_camera_object, const Rigid3d& T_ca
   Eigen::Matrix3d a_cross;
   a_cross << 0, -a.z(), a.y(), a.z(), 0, -a.x(), -a.y(), a.x(), 0;
   const double A = M.trace() - a.dot(M * a), B = (M * a_cross).trace();
-  const Eigen::Matrix3d R = Eigen::AngleAxisd(std::atan2(B, A), a).toRotationMatrix();
+  // A cos t + B sin t = sqrt(A^2 + B^2) cos(t - t*): for a discrete symmetry the best allowed angle is
+  // the multiple of the step nearest to t*.
+  double angle = std::atan2(B, A);
+  if (symmetry.step_deg > 0) {
+    const double step = RadFromDeg(symmetry.step_deg);
+    angle = step * std::round(angle / step);
+  }
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(angle, a).toRotationMatrix();
   // The rotation about the axis through point_object, in the object frame.
   const Rigid3d about_axis(R, symmetry.point_object - R * symmetry.point_object);
   return T_camera_object * about_axis;

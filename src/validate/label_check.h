@@ -84,15 +84,17 @@ LabelCheck BadInputCheck(VerdictReason code, std::string reason, int scene_point
 /// The verdict rules alone (docs/validation.md "Verdicts"); fills verdict, reason_code, reason.
 void DecideVerdict(const VerdictOptions& options, LabelCheck* check);
 
-/// A continuous rotational symmetry of an object (a body of revolution such as a funnel): rotations about
-/// the axis leave its surface unchanged, so depth cannot tell them apart.
+/// A rotational symmetry of an object: rotations about the axis (continuous: by any angle, a body of
+/// revolution such as a funnel; discrete: by multiples of step_deg, such as a table's 180 deg) leave its
+/// surface unchanged, so depth cannot tell them apart (objects.yaml `symmetries`, docs/objects.md).
 struct SymmetryAxis {
   Eigen::Vector3d axis_object = Eigen::Vector3d::UnitZ();   ///< direction, object frame (normalised here)
   Eigen::Vector3d point_object = Eigen::Vector3d::Zero();   ///< a point on the axis, object frame, metres
+  double step_deg = 0.0;  ///< 0: continuous; else the discrete step, 360 / step_deg an integer >= 2
 };
 
-/// T_camera_object rotated about the object's symmetry axis to the pose nearest in rotation to
-/// T_camera_object_reference (an equally valid pose of a symmetric object).
+/// T_camera_object rotated about the object's symmetry axis (by an allowed angle) to the pose nearest in
+/// rotation to T_camera_object_reference (an equally valid pose of a symmetric object).
 Rigid3d NearestSymmetricPose(const Rigid3d& T_camera_object, const Rigid3d& T_camera_object_reference,
                              const SymmetryAxis& symmetry);
 

@@ -1,6 +1,8 @@
 #include "validate/model_crop.h"
 
+#include <climits>
 #include <cmath>
+#include <cstdint>
 #include <numbers>
 #include <unordered_map>
 
@@ -44,12 +46,82 @@ SurfaceCropSource::SurfaceCropSource(PointCloud surface_model, const CropOptions
   options_.check();
   if (surface_.empty()) throw InputError("SurfaceCropSource", "model has no surface points");
   center_model_ = Centroid(surface_);
+  box_model_ = BoundingBox(surface_);
 }
 
 SurfaceCropSource SurfaceCropSource::FromMesh(const TriangleMesh& mesh, const CropOptions& options) {
   options.check();
   return SurfaceCropSource(SampleSurface(mesh, options.pixel_m / 2), options);
 }
+
+namespace {
+
+/// std::floor without the libm call (x86-64 without SSE4.1 does not inline it): this loop runs once per
+/// surface sample and crop. Values beyond the int64 range are returned unchanged (rejected as pixels).
+double Floor(double x) {
+  if (!(std::abs(x) < 1e15)) return x;
+  const auto i = static_cast<int64_t>(x);
+  return static_cast<double>(x < static_cast<double>(i) ? i - 1 : i);
+}
+
+/// Pixel keys of the virtual camera: dense (row-major over the pixel rectangle the model can cover)
+/// when that rectangle is small, else (u, v) packed into 21 bits each (any pixel in range).
+struct PixelGrid {
+  Eigen::Vector2i origin = Eigen::Vector2i::Constant(-(1 << 20));
+  int64_t width = int64_t{1} << 21, height = int64_t{1} << 21;
+  bool dense = false;
+  /// -1 for a pixel outside the grid.
+  int64_t Key(double u, double v) const {
+    const double du = u - origin.x(), dv = v - origin.y();
+    if (!(du >= 0 && dv >= 0 && du < static_cast<double>(width) && dv < static_cast<double>(height))) return -1;
+    return static_cast<int64_t>(dv) * width + static_cast<int64_t>(du);
+  }
+};
+
+/// The dense grid over the projections of the model's bounding-box corners (a box wholly in front of
+/// the camera projects inside their hull), or the packed one when a corner is not in front or the
+/// rectangle would be much larger than the sample count.
+PixelGrid GridFor(const Box3d& box_model, const Rigid3d& T_camera_model, double focal_px, size_t samples) {
+  Eigen::Vector2d lo = Eigen::Vector2d::Constant(1e300), hi = Eigen::Vector2d::Constant(-1e300);
+  for (int c = 0; c < 8; ++c) {
+    const Eigen::Vector3d corner((c & 1 ? box_model.max : box_model.min).x(), (c & 2 ? box_model.max : box_model.min).y(),
+                                 (c & 4 ? box_model.max : box_model.min).z());
+    const Eigen::Vector3d p = T_camera_model * corner;
+    if (p.z() <= 1e-6) return {};
+    const Eigen::Vector2d uv(Floor(focal_px * p.x() / p.z()), Floor(focal_px * p.y() / p.z()));
+    lo = lo.cwiseMin(uv);
+    hi = hi.cwiseMax(uv);
+  }
+  const Eigen::Vector2d size = hi - lo + Eigen::Vector2d::Ones();
+  if (!(size.x() * size.y() <= 16.0 * static_cast<double>(samples) + 4096)) return {};
+  PixelGrid grid;
+  grid.origin = lo.cast<int>();
+  grid.width = static_cast<int64_t>(size.x());
+  grid.height = static_cast<int64_t>(size.y());
+  grid.dense = true;
+  return grid;
+}
+
+/// Per pixel key, the nearest sample offered so far.
+class ZBuffer {
+ public:
+  explicit ZBuffer(const PixelGrid& grid) : dense_(grid.dense) {
+    if (dense_) image_.assign(static_cast<size_t>(grid.width * grid.height), Best{0.0f, -1});
+  }
+  void Offer(int64_t key, float z, int index) {
+    Best& best = dense_ ? image_[static_cast<size_t>(key)] : sparse_.try_emplace(key, Best{z, index}).first->second;
+    if (best.index < 0 || z < best.z) best = Best{z, index};
+  }
+  int Winner(int64_t key) const { return dense_ ? image_[static_cast<size_t>(key)].index : sparse_.at(key).index; }
+
+ private:
+  struct Best { float z; int index; };
+  bool dense_;
+  std::vector<Best> image_;
+  std::unordered_map<int64_t, Best> sparse_;
+};
+
+}  // namespace
 
 ModelCrop SurfaceCropSource::Crop(const Rigid3d& T_camera_model) const {
   ModelCrop crop;
@@ -60,31 +132,21 @@ ModelCrop SurfaceCropSource::Crop(const Rigid3d& T_camera_model) const {
   const double depth_m = (T_camera_model * center_model_).z();
   if (!(depth_m > 1e-6)) return crop;  // model behind or at the camera: nothing is visible
   const double f = depth_m / options_.pixel_m;
+  const PixelGrid grid = GridFor(box_model_, T_camera_model, f, surface_.size());
   const Eigen::Matrix3d R = T_camera_model.rotation_matrix();
   const Eigen::Vector3d t = T_camera_model.translation();
-  // Per pixel: the sample index with the smallest depth.
-  struct Best { float z; int index; };
-  std::unordered_map<int64_t, Best> zbuffer;
-  zbuffer.reserve(surface_.size() / 2);
+  ZBuffer zbuffer(grid);
   std::vector<int64_t> pixel_of(surface_.size(), -1);
   for (size_t i = 0; i < surface_.size(); ++i) {
     const Eigen::Vector3d p = R * surface_[i] + t;
     if (p.z() <= 1e-6) continue;
-    const auto u = static_cast<int64_t>(std::floor(f * p.x() / p.z()));
-    const auto v = static_cast<int64_t>(std::floor(f * p.y() / p.z()));
-    const int64_t key = (u + (1 << 20)) | ((v + (1 << 20)) << 21);
-    pixel_of[i] = key;
-    const Best candidate{static_cast<float>(p.z()), static_cast<int>(i)};
-    auto [it, inserted] = zbuffer.try_emplace(key, candidate);
-    if (!inserted && candidate.z < it->second.z) it->second = candidate;
+    const double scale = f / p.z();
+    pixel_of[i] = grid.Key(Floor(scale * p.x()), Floor(scale * p.y()));
+    if (pixel_of[i] >= 0) zbuffer.Offer(pixel_of[i], static_cast<float>(p.z()), static_cast<int>(i));
   }
   // One point per pixel: the nearest sample, i.e. the front surface, in sample order (deterministic).
-  crop.points_model.reserve(zbuffer.size());
-  for (size_t i = 0; i < surface_.size(); ++i) {
-    if (pixel_of[i] < 0) continue;
-    const Best& best = zbuffer.at(pixel_of[i]);
-    if (best.index == static_cast<int>(i)) crop.points_model.push_back(surface_[i]);
-  }
+  for (size_t i = 0; i < surface_.size(); ++i)
+    if (pixel_of[i] >= 0 && zbuffer.Winner(pixel_of[i]) == static_cast<int>(i)) crop.points_model.push_back(surface_[i]);
   return crop;
 }
 

@@ -68,6 +68,7 @@ class SurfaceCropSource : public CropSource {
   PointCloud surface_;
   CropOptions options_;
   Eigen::Vector3d center_model_;  ///< surface centroid: sets the pixel scale
+  Box3d box_model_;               ///< bounds the pixels a crop can cover (a dense z-buffer)
 };
 
 /// Camera poses on a view sphere around the model centre: `count` viewing directions spread evenly

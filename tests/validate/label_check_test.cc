@@ -165,5 +165,20 @@ TEST(Symmetry, AnEstimateTurnedAboutTheAxisComparesAsTheLabel) {
   EXPECT_NEAR(RotationDistanceDeg(NearestSymmetricPose(tilted, label, axis), label), 10.0, 1e-6);
 }
 
+TEST(Symmetry, ADiscreteSymmetryAllowsOnlyItsSteps) {
+  const SymmetryAxis half_turn{{0, 0, 1}, {0.01, 0, 0}, 180.0};  // a table: 180 deg about z through (1 cm, 0, 0)
+  const Rigid3d label = Rigid3d::FromRvec({0.1, 0.2, -0.3}, {0.0, 0.1, 1.2});
+  const auto about_axis = [&](double deg) {
+    return Rigid3d::FromRvec({0, 0, 0}, half_turn.point_object) * Rigid3d::FromRvec({0, 0, RadFromDeg(deg)}, {0, 0, 0}) *
+           Rigid3d::FromRvec({0, 0, 0}, -half_turn.point_object);
+  };
+  // 183 deg about the axis: the half turn hides 180 of them, not the remaining 3.
+  const Rigid3d nearest = NearestSymmetricPose(label * about_axis(183), label, half_turn);
+  EXPECT_NEAR(RotationDistanceDeg(nearest, label), 3.0, 1e-6);
+  EXPECT_LT(TranslationDistanceM(nearest, label), 0.001);
+  // 70 deg is no symmetry of a half-turn object: nothing is hidden.
+  EXPECT_NEAR(RotationDistanceDeg(NearestSymmetricPose(label * about_axis(70), label, half_turn), label), 70.0, 1e-6);
+}
+
 }  // namespace
 }  // namespace mocap

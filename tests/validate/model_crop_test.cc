@@ -2,6 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <map>
+#include <optional>
+
 #include "validate/acquisition.h"
 #include "synthetic.h"
 
@@ -35,11 +39,56 @@ TEST(ModelCrop, ZBufferKeepsOnlyTheFacingSide) {
 }
 
 
+/// The crop by a plain per-pixel map (what SurfaceCropSource computed before its dense z-buffer).
+PointCloud ReferenceCrop(const PointCloud& surface, const Rigid3d& T_camera_model, double pixel_m) {
+  const double f = (T_camera_model * Centroid(surface)).z() / pixel_m;
+  std::map<std::pair<int64_t, int64_t>, std::pair<float, size_t>> nearest;
+  std::vector<std::optional<std::pair<int64_t, int64_t>>> pixel(surface.size());
+  for (size_t i = 0; i < surface.size(); ++i) {
+    const Eigen::Vector3d p = T_camera_model * surface[i];
+    if (p.z() <= 1e-6) continue;
+    const double scale = f / p.z();
+    pixel[i] = {static_cast<int64_t>(std::floor(scale * p.x())), static_cast<int64_t>(std::floor(scale * p.y()))};
+    auto [it, inserted] = nearest.try_emplace(*pixel[i], static_cast<float>(p.z()), i);
+    if (!inserted && static_cast<float>(p.z()) < it->second.first) it->second = {static_cast<float>(p.z()), i};
+  }
+  PointCloud out;
+  for (size_t i = 0; i < surface.size(); ++i)
+    if (pixel[i] && nearest.at(*pixel[i]).second == i) out.push_back(surface[i]);
+  return out;
+}
+
+TEST(ModelCrop, DenseAndSparseZBuffersMatchAPlainPerPixelMap) {
+  const TriangleMesh mesh = BoxMesh({0.2, 0.2, 1.0});
+  const SurfaceCropSource source = SurfaceCropSource::FromMesh(mesh, CropOptions{});
+  // Outside the box (dense z-buffer over the box's projection), and inside it looking down its length
+  // (corners behind the camera: the sparse map).
+  for (const Rigid3d& T_camera_model : {Rigid3d::FromRvec({0.4, -0.3, 0.2}, {0.02, -0.01, 1.5}),
+                                        LookAt({0.0, 0.0, 0.3}, {0.0, 0.0, -0.5}, {0, 1, 0})}) {
+    const PointCloud crop = source.Crop(T_camera_model).points_model;
+    ASSERT_GT(crop.size(), 100u);
+    EXPECT_EQ(crop, ReferenceCrop(source.surface_model(), T_camera_model, CropOptions{}.pixel_m));
+  }
+}
+
 TEST(ModelCrop, MeshCheckRejectsBadIndices) {
   TriangleMesh mesh = BoxMesh({0.1, 0.1, 0.1});
   mesh.triangles.push_back({0, 1, 99});
   EXPECT_THROW(mesh.check(), InputError);
   EXPECT_THROW(TriangleMesh{}.check(), InputError);
+}
+
+TEST(Acquisition, OptionsCheckRejectsNonsense) {
+  EXPECT_NO_THROW(AcquisitionOptions{}.check());
+  AcquisitionOptions o;
+  o.hypothesis_stride = 0;
+  EXPECT_THROW(o.check(), InputError);
+  o = AcquisitionOptions{};
+  o.refine_count = 0;
+  EXPECT_THROW(o.check(), InputError);
+  o = AcquisitionOptions{};
+  o.refine_icp.acceleration_max_factor = 0;
+  EXPECT_THROW(o.check(), InputError);
 }
 
 TEST(Acquisition, ViewSphereFindsABoxPoseWithoutAPrior) {

@@ -7,6 +7,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "cli/objects_yaml.h"
+#include "cli/validation_objects.h"
 #include "label/labeller.h"
 #include "session/image_io.h"
 #include "session/import/bop_import.h"
@@ -56,10 +57,7 @@ fs::path FreshTempDir(const std::string& name) {
 }
 
 std::vector<ValidationObject> SessionObjects(const fs::path& session_dir) {
-  std::vector<ValidationObject> objects;
-  for (const LabelObject& o : cli::LoadObjectsYaml(session_dir / "objects.yaml"))
-    objects.push_back({o.id, o.name, o.mesh_path, o.unit_scale_to_m});
-  return objects;
+  return cli::LoadValidationObjects(session_dir / "objects.yaml");
 }
 
 BopDepthScene MakeBopDepthScene(const fs::path& dir, const std::vector<int64_t>& frames_without_depth, uint32_t seed) {
