@@ -12,8 +12,12 @@ std::vector<ValidationObject> ValidationObjects(const RecordResult& record, cons
   std::vector<ValidationObject> objects;
   for (const LabelObject& o : MakeLabelInputs(record, library, calibration).objects) {
     ValidationObject object{o.id, o.name, o.mesh_path, o.unit_scale_to_m, std::nullopt};
+    // As `mocaplabel validate` (cli/validation_objects.h): the first continuous symmetry, else the
+    // first discrete one.
     for (const Symmetry& s : library.Find(o.name)->symmetries)
-      if (s.type == Symmetry::Type::kContinuous) object.symmetry = SymmetryAxis{s.axis, s.offset_m};
+      if (s.type == Symmetry::Type::kContinuous && !object.symmetry) object.symmetry = SymmetryAxis{s.axis, s.offset_m, 0.0};
+    for (const Symmetry& s : library.Find(o.name)->symmetries)
+      if (s.type == Symmetry::Type::kDiscrete && !object.symmetry) object.symmetry = SymmetryAxis{s.axis, s.offset_m, s.angle_deg};
     objects.push_back(object);
   }
   return objects;
