@@ -44,8 +44,11 @@ class ScoringTest : public testing::Test {
     std::ofstream labels(root_ / "labels" / "labels.jsonl");
     for (const auto& r : records) labels << r.dump() << "\n";
   }
-  static nlohmann::json Record(int index, const std::string& name, std::vector<double> rvec, std::vector<double> t_m) {
-    return {{"camera", "cam"}, {"index", index}, {"name", name}, {"instance", 2}, {"rvec", rvec}, {"t_m", t_m}};
+  // `index`: the record's place in the labelled session; `frame`: the simulated frame it shows.
+  static nlohmann::json Record(int index, const std::string& name, std::vector<double> rvec, std::vector<double> t_m,
+                               int frame = -1) {
+    return {{"camera", "cam"}, {"index", index}, {"frame", frame < 0 ? index : frame}, {"name", name},
+            {"instance", 2},   {"rvec", rvec},   {"t_m", t_m}};
   }
   fs::path root_;
 };
@@ -54,7 +57,7 @@ TEST_F(ScoringTest, PoseErrorsAndMaskIouAgainstTheTruth) {
   const double one_deg = M_PI / 180;
   WriteLabels({Record(0, "box", {0, 0, 0}, {0.103, 0.004, 1.0}),  // 5 mm off, exact rotation
                Record(1, "box", {0, one_deg, 0}, {0.1, 0.0, 1.0}),  // exact position, 1 degree off
-               {{"camera", "cam"}, {"index", 1}, {"name", "box"}, {"instance", 3}, {"flags", {"missing_body"}}}});
+               {{"camera", "cam"}, {"index", 1}, {"frame", 1}, {"name", "box"}, {"instance", 3}, {"flags", {"missing_body"}}}});
   const LabelScores s = ScoreLabels(root_ / "labels", root_ / "truth");
   EXPECT_EQ(s.records, 3);
   EXPECT_EQ(s.records_without_pose, 1);
@@ -67,6 +70,19 @@ TEST_F(ScoringTest, PoseErrorsAndMaskIouAgainstTheTruth) {
   EXPECT_NEAR(s.per_record[1].iou, 1.0, 1e-12);
   EXPECT_NEAR(s.mask_iou_mean, (1.0 / 3 + 1.0) / 2, 1e-12);
   EXPECT_NEAR(s.pose_err_mm_median, 2.5, 1e-9);
+}
+
+TEST_F(ScoringTest, RecordsAreMatchedToTheTruthBySimulatedFrameNotBySessionPlace) {
+  // A recording that dropped simulated frame 0: its first record (index 0) shows frame 1. Frame 1's
+  // truth box sits at x 10-30, the label image at index 0 at x 20-40: IoU 1/3 when matched by frame.
+  const double one_deg = M_PI / 180;
+  WriteLabels({Record(0, "box", {0, one_deg, 0}, {0.1, 0.0, 1.0}, /*frame=*/1)});
+  WriteIds(root_ / "truth" / "instance" / "000000.png", 7, 0, 0, 0, 0);  // frame 0's truth: nothing visible
+  const LabelScores s = ScoreLabels(root_ / "labels", root_ / "truth");
+  ASSERT_EQ(s.per_record.size(), 1u);
+  EXPECT_EQ(s.per_record[0].index, 1);
+  EXPECT_NEAR(s.per_record[0].iou, 200.0 / 600.0, 1e-12) << "label image by session place, truth by frame";
+  EXPECT_NEAR(s.per_record[0].err_deg, 1.0, 1e-9);
 }
 
 TEST_F(ScoringTest, RecordWithoutTruthIsAnError) {
