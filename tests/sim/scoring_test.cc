@@ -27,7 +27,9 @@ void WriteIds(const fs::path& path, int id, int x0, int x1, int y0, int y1) {
 class ScoringTest : public testing::Test {
  protected:
   void SetUp() override {
-    root_ = fs::path(testing::TempDir()) / "mocap_scoring";
+    // One folder per test: ctest runs the cases of this fixture in parallel.
+    root_ = fs::path(testing::TempDir()) / (std::string("mocap_scoring_") +
+                                            testing::UnitTest::GetInstance()->current_test_info()->name());
     fs::remove_all(root_);
     const Rigid3d truth = Rigid3d::FromRvec({0, 0, 0}, {0.1, 0.0, 1.0});
     fs::create_directories(root_ / "truth");
