@@ -81,7 +81,7 @@ double ProcessCpuSeconds() {
 }
 
 /// Output variants: 0 = the defaults; 1 = also BOP-style full-size masks; 2 = defaults with ZIPS depth;
-/// 3 = defaults with back faces culled; 4 = no rendered depth; 5 = no mask files (these two split the
+/// 3 = defaults without back-face culling (the defaults cull the closed spheres); 4 = no rendered depth; 5 = no mask files (these two split the
 /// encode + write stage).
 LabelOptions VariantOptions(const fs::path& out, int threads, int variant) {
   LabelOptions options;
@@ -89,7 +89,7 @@ LabelOptions VariantOptions(const fs::path& out, int threads, int variant) {
   options.threads = threads;
   options.output.write_bop_masks = variant == 1;
   if (variant == 2) options.output.depth_compression = DepthCompression::kZips;
-  options.renderer.cull_back_faces = variant == 3;
+  if (variant == 3) options.renderer.back_face_culling = BackFaceCulling::kNever;
   options.output.write_depth = variant != 4;
   options.output.write_masks = variant != 5;
   return options;

@@ -63,6 +63,17 @@ struct RenderOutput {
   std::vector<ObjectLayer> layers;  ///< one per RenderItem, same order
 };
 
+/// Back-face culling of a mesh. kAuto culls exactly where it cannot change the image: meshes that
+/// AnalyzeClosure (mesh_closure.h) finds closed and outward-wound, and only in draws where the mesh's
+/// bounding box lies wholly beyond the near plane (so the camera is outside the solid). kAlways culls
+/// any mesh (the caller vouches that it is closed and outward; with holes its inside is missing, with
+/// inward winding it disappears) under the same near-plane condition; kNever draws every face.
+enum class BackFaceCulling { kNever, kAuto, kAlways };
+
+/// "never", "auto", "always"; throws InputError for another name.
+BackFaceCulling BackFaceCullingFromString(const std::string& name);
+const char* ToString(BackFaceCulling culling);
+
 struct RendererOptions {
   double near_m = 0.02;  ///< clip range along the optical axis
   double far_m = 20.0;
@@ -70,11 +81,9 @@ struct RendererOptions {
   /// parts outside the image (1.0 = BOP's 3x canvas). Costs memory only: rasterisation is clipped to
   /// each object's projected bounding box.
   double outside_margin_fraction = 1.0;
-  /// Skip triangles facing away from the camera (meshes with outward counter-clockwise winding, as PLY /
-  /// OBJ exports of scans are). About halves the CPU rasteriser's triangle setup; silhouettes of closed
-  /// meshes are unchanged, but a mesh with holes shows them (its inside is not drawn), and a mesh with
-  /// inward winding disappears. Off by default for that reason.
-  bool cull_back_faces = false;
+  /// Which meshes are drawn without their back faces (triangles facing away from the camera), for meshes
+  /// uploaded without their own choice. Culling about halves the CPU rasteriser's triangle setup.
+  BackFaceCulling back_face_culling = BackFaceCulling::kNever;
   /// Framebuffers in flight (pipelining on CPU rasterisers).
   int framebuffers = 3;
   void check() const;  ///< throws InputError
@@ -88,8 +97,12 @@ class Renderer {
   Renderer(const Renderer&) = delete;
   Renderer& operator=(const Renderer&) = delete;
 
-  /// Uploads the mesh's geometry once; render it any number of times by the handle.
+  /// Uploads the mesh's geometry once; render it any number of times by the handle. Culls its back faces
+  /// as options().back_face_culling or `culling` says (kAuto analyses the mesh once, here).
   MeshHandle Upload(const Mesh& mesh);
+  MeshHandle Upload(const Mesh& mesh, BackFaceCulling culling);
+  /// Whether the mesh's back faces are culled (in draws with its box beyond the near plane).
+  bool CullsBackFaces(MeshHandle mesh) const;
   /// Renders `items` into `camera` (its distortion included). Precondition: handles come from Upload,
   /// instance ids are > 0. Throws InputError for an invalid camera.
   RenderOutput Render(const PinholeCamera& camera, std::span<const RenderItem> items);
