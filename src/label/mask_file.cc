@@ -73,11 +73,4 @@ ObjectMasks ReadMaskFile(const std::filesystem::path& png, const PixelRect& rect
   }
 }
 
-void WriteLabelPng(const std::filesystem::path& path, const cv::Mat& image) {
-  // OpenCV's speed path (SUB filter, zlib level 1) is taken only while no compression level is given;
-  // an explicit level lets libpng try every row filter, at about twice the cost (bench/RESULTS.md).
-  if (!cv::imwrite(path.string(), image, {cv::IMWRITE_PNG_STRATEGY, cv::IMWRITE_PNG_STRATEGY_RLE}))
-    throw InputError(path.string(), "could not write the image (disk full or not writable?)");
-}
-
 }  // namespace mocap

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <opencv2/core/mat.hpp>
 
+#include "label/label_png.h"
 #include "label/object_labels.h"
 
 namespace mocap {
@@ -33,9 +34,5 @@ ObjectMasks UnpackMasks(const cv::Mat& bits, const PixelRect& rect, bool has_mea
 /// Reads a mask file written by the labeller; `rect` is its record's `mask_rect`. Throws InputError for a
 /// missing or unreadable file or one that does not match `rect`.
 ObjectMasks ReadMaskFile(const std::filesystem::path& png, const PixelRect& rect, bool has_measured);
-
-/// A PNG writer tuned for label images (large constant regions): the SUB row filter, zlib level 1 with
-/// the RLE strategy. Throws InputError when the file cannot be written.
-void WriteLabelPng(const std::filesystem::path& path, const cv::Mat& image);
 
 }  // namespace mocap
