@@ -1,6 +1,6 @@
 // The whole labelling path at 640x480 (bench/RESULTS.md): a recorded session of a tracked camera and 3
 // tracked objects of about 20k triangles each, through `LabelSession` with every default output written
-// (instance and class PNGs, rendered depth EXR, one packed mask PNG per object, labels.jsonl) and the
+// (instance and class PNGs, rendered depth EXR, one packed mask PNG per frame, labels.jsonl) and the
 // measured depth read for the visibility test. Reports labelled frames per second (wall clock, the whole
 // run including loading the meshes), CPU time per frame over all threads and the rate two idle cores
 // reach from it, and the workers' time per stage (render, read depth, labels, encode + write).
@@ -194,12 +194,12 @@ void BM_DepthExrCodec(benchmark::State& state) {
 BENCHMARK(BM_DepthExrCodec)->DenseRange(0, 4)->Unit(benchmark::kMillisecond);
 
 /// One label PNG of frame 0 (0: the 16-bit instance image; 1: a full-size 0/255 amodal mask; 2: the
-/// packed mask of the same object), written with WriteLabelPng (arg 1 = 0) or with an explicit zlib
+/// frame's packed mask file), written with WriteLabelPng (arg 1 = 0) or with an explicit zlib
 /// level 1 (arg 1 = 1: libpng then tries every row filter; what the labeller used before).
 void BM_LabelPng(benchmark::State& state) {
   const fs::path dir = FreshBenchDir("png");
   const fs::path& images = LabelledImages();
-  const char* sources[] = {"instance/000000.png", "mask/000000_000001.png", "mask_bits/000000_000001.png"};
+  const char* sources[] = {"instance/000000.png", "mask/000000_000001.png", "mask_bits/000000.png"};
   const cv::Mat image = cv::imread((images / sources[state.range(0)]).string(), cv::IMREAD_UNCHANGED);
   const fs::path out = dir / "out.png";
   for (auto _ : state) {

@@ -131,6 +131,7 @@ void LabelFrame(const SessionReader& session, const std::vector<LabelObject>& ob
   const std::vector<ObjectLabels> labels =
       ComputeObjectLabels(worker.render, chain.camera(), use_depth ? &depth : nullptr, options.visibility);
   std::vector<PackedMasks> packed(options.output.write_masks ? labels.size() : 0);
+  std::vector<PackedMasks*> stacked;
   for (size_t k = 0; k < result_of_item.size(); ++k) {
     InstanceResult& r = results[result_of_item[k]];
     r.labels = &labels[k];
@@ -138,9 +139,11 @@ void LabelFrame(const SessionReader& session, const std::vector<LabelObject>& ob
     if (!options.output.write_masks) continue;
     packed[k] = PackMasks(labels[k].masks);
     r.packed = &packed[k];
+    stacked.push_back(&packed[k]);
   }
+  const cv::Mat frame_masks = StackMasks(stacked);
   clock.Lap(worker, &LabelStageSeconds::labels);
-  WriteFrameImages(out, job.camera, index, worker.render, results, color, options.output);
+  WriteFrameImages(out, job.camera, index, worker.render, results, color, frame_masks, options.output);
   clock.Lap(worker, &LabelStageSeconds::write);
   auto& lines = job.lines[static_cast<size_t>(index)];
   for (const InstanceResult& r : results) lines.push_back(LabelRecord(job.camera, index, entry.record, r, use_depth));

@@ -94,7 +94,8 @@ TEST(Labeller, PoseConventionsEndToEnd) {
   ASSERT_TRUE(r.contains("mask_rect")) << r.dump();
   const auto& mr = r["mask_rect"];
   const PixelRect rect{mr[0], mr[1], mr[2], mr[3]};
-  const ObjectMasks masks = ReadMaskFile(dir / "L" / "cam" / "mask_bits" / "000000_000001.png", rect, false);
+  EXPECT_EQ(r["mask_row"], 0);  // the only object of the frame
+  const ObjectMasks masks = ReadMaskFile(dir / "L" / "cam" / "mask_bits" / "000000.png", rect, false);
   const Image<uint8_t> amodal = ToFullImage(masks.amodal, rect, cam.width, cam.height);
   const cv::Moments m =
       cv::moments(cv::Mat(cam.height, cam.width, CV_8UC1, const_cast<uint8_t*>(amodal.data.data())), true);
