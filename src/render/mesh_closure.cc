@@ -101,6 +101,21 @@ std::string MeshClosure::Describe() const {
   return why.empty() ? "no triangles" : why;
 }
 
+constexpr std::pair<BackFaceCulling, const char*> kCullingNames[] = {
+    {BackFaceCulling::kNever, "never"}, {BackFaceCulling::kAuto, "auto"}, {BackFaceCulling::kAlways, "always"}};
+
+BackFaceCulling BackFaceCullingFromString(const std::string& name) {
+  for (const auto& [value, n] : kCullingNames)
+    if (name == n) return value;
+  throw InputError("back-face culling", Str("'", name, "' is not one of never, auto, always"));
+}
+
+const char* ToString(BackFaceCulling culling) {
+  for (const auto& [value, n] : kCullingNames)
+    if (value == culling) return n;
+  return "?";
+}
+
 MeshClosure AnalyzeClosure(const Mesh& mesh) {
   MeshClosure closure;
   const std::vector<uint32_t> weld = WeldByPosition(mesh.positions_m, closure.welded_vertices);

@@ -20,6 +20,17 @@
 
 namespace mocap {
 
+/// Back-face culling of a mesh. kAuto culls exactly where it cannot change the image: meshes that
+/// AnalyzeClosure (below) finds closed and outward-wound, and only in draws where the mesh's
+/// bounding box lies wholly beyond the near plane (so the camera is outside the solid). kAlways culls
+/// any mesh (the caller vouches that it is closed and outward; with holes its inside is missing, with
+/// inward winding it disappears) under the same near-plane condition; kNever draws every face.
+enum class BackFaceCulling { kNever, kAuto, kAlways };
+
+/// "never", "auto", "always"; throws InputError for another name.
+BackFaceCulling BackFaceCullingFromString(const std::string& name);
+const char* ToString(BackFaceCulling culling);
+
 struct MeshClosure {
   int64_t welded_vertices = 0;
   int64_t triangles = 0;           ///< non-degenerate triangles checked

@@ -149,21 +149,6 @@ void Composite(const ObjectLayer& layer, RenderOutput& out) {
 
 }  // namespace
 
-constexpr std::pair<BackFaceCulling, const char*> kCullingNames[] = {
-    {BackFaceCulling::kNever, "never"}, {BackFaceCulling::kAuto, "auto"}, {BackFaceCulling::kAlways, "always"}};
-
-BackFaceCulling BackFaceCullingFromString(const std::string& name) {
-  for (const auto& [value, n] : kCullingNames)
-    if (name == n) return value;
-  throw InputError("back-face culling", Str("'", name, "' is not one of never, auto, always"));
-}
-
-const char* ToString(BackFaceCulling culling) {
-  for (const auto& [value, n] : kCullingNames)
-    if (value == culling) return n;
-  return "?";
-}
-
 void RendererOptions::check() const {
   if (!(near_m > 0) || !(far_m > near_m))
     throw InputError("renderer options", Str("clip range near ", near_m, " m, far ", far_m, " m is invalid"));

@@ -23,6 +23,7 @@
 #include "core/rigid3.h"
 #include "render/canvas.h"
 #include "render/mesh.h"
+#include "render/mesh_closure.h"
 #include "render/render_context.h"
 
 namespace mocap {
@@ -62,17 +63,6 @@ struct RenderOutput {
   DepthImage depth_m;               ///< nearest object's z (metres), 0 = background
   std::vector<ObjectLayer> layers;  ///< one per RenderItem, same order
 };
-
-/// Back-face culling of a mesh. kAuto culls exactly where it cannot change the image: meshes that
-/// AnalyzeClosure (mesh_closure.h) finds closed and outward-wound, and only in draws where the mesh's
-/// bounding box lies wholly beyond the near plane (so the camera is outside the solid). kAlways culls
-/// any mesh (the caller vouches that it is closed and outward; with holes its inside is missing, with
-/// inward winding it disappears) under the same near-plane condition; kNever draws every face.
-enum class BackFaceCulling { kNever, kAuto, kAlways };
-
-/// "never", "auto", "always"; throws InputError for another name.
-BackFaceCulling BackFaceCullingFromString(const std::string& name);
-const char* ToString(BackFaceCulling culling);
 
 struct RendererOptions {
   double near_m = 0.02;  ///< clip range along the optical axis
