@@ -24,7 +24,8 @@ struct Scene {
   Scene(int objects, int triangles, bool distorted, int margin_percent = 100, bool cull = false) {
     context = RenderContext::Create();
     renderer = std::make_unique<Renderer>(
-        *context, RendererOptions{.outside_margin_fraction = margin_percent / 100.0, .cull_back_faces = cull});
+        *context, RendererOptions{.outside_margin_fraction = margin_percent / 100.0,
+                                  .back_face_culling = cull ? BackFaceCulling::kAlways : BackFaceCulling::kNever});
     // Objects of 6-10 cm radius at 0.7-1.0 m, overlapping in the image as on a table top.
     for (int i = 0; i < objects; ++i) {
       const MeshHandle mesh = renderer->Upload(MakeSphereMesh(0.06 + 0.02 * (i % 3), triangles));

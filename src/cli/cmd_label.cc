@@ -50,12 +50,14 @@ int RunLabel(int argc, char** argv) {
   app.add_option("--platform", platform, "EGL platform: auto, surfaceless or device");
   app.add_flag("--overlay", options.output.write_overlay, "also write label colours over the RGB image");
   bool no_masks = false, no_depth = false;
-  std::string depth_compression = "rle";
+  std::string depth_compression = "rle", culling = "auto";
   app.add_flag("--no-masks", no_masks, "skip the per-object packed mask PNGs");
   app.add_flag("--bop-masks", options.output.write_bop_masks,
                "also write three full-size 0/255 mask PNGs per object (mask/, mask_visib/, mask_visib_depth/)");
   app.add_flag("--no-depth", no_depth, "skip the rendered depth (OpenEXR)");
   app.add_option("--depth-compression", depth_compression, "OpenEXR codec of the rendered depth: none, rle, zips, zip, piz");
+  app.add_option("--cull-back-faces", culling,
+                 "auto (meshes found closed and outward-wound), always or never; objects.yaml cull_back_faces wins");
   app.add_flag("--json", json, "print one JSON summary on stdout");
   CLI11_PARSE(app, argc, argv);
 
@@ -65,6 +67,7 @@ int RunLabel(int argc, char** argv) {
   options.output.depth_compression = DepthCompressionFromString(depth_compression);
   options.chain.interpolation.max_gap_ns = static_cast<int64_t>(max_gap_ms * 1e6);
   options.context.platform = EglPlatformFromString(platform);
+  options.renderer.back_face_culling = BackFaceCullingFromString(culling);
   // Every worker owns a context and keeps a core busy; llvmpipe's own rasteriser threads (one per core by
   // default) then only add hand-over cost: 36 -> 29-34 ms CPU per frame with 2 workers (bench/RESULTS.md,
   // bench_label). Mesa reads the variable once, at the first EGL display, which is still to come here.

@@ -15,6 +15,13 @@ LabelObject ParseObject(const std::filesystem::path& file, const YAML::Node& nod
   o.mesh_path = mesh.is_absolute() ? mesh : std::filesystem::absolute(file.parent_path() / mesh);
   if (!node["unit"]) throw InputError(Where(file, node), Str("object '", o.name, "' declares no mesh 'unit' (m, cm, mm)"));
   o.unit_scale_to_m = UnitScale(file, node["unit"]);
+  if (const YAML::Node culling = node["cull_back_faces"]) {
+    try {
+      o.back_face_culling = BackFaceCullingFromString(culling.as<std::string>());
+    } catch (const InputError& e) {
+      throw InputError(Where(file, culling), Str("object '", o.name, "': cull_back_faces ", e.what()));
+    }
+  }
   if (const YAML::Node body = node["tracker_body"]) {
     o.mounts.push_back({body.as<std::string>(), node["T_body_mesh"] ? Pose(file, node["T_body_mesh"]) : Rigid3d()});
   }

@@ -10,6 +10,8 @@
 #include <utility>
 
 #include "core/check.h"
+#include "label/exr_rle.h"
+#include "label/label_png.h"
 
 namespace mocap {
 namespace {
@@ -46,6 +48,9 @@ const char* DepthCompressionName(DepthCompression compression) {
 }
 
 void WriteRenderedDepthExr(const std::filesystem::path& path, const DepthImage& depth_m, DepthCompression compression) {
+  // RLE, the default, is encoded here (exr_rle.h: OpenEXR's writer costs more than the compression).
+  if (compression == DepthCompression::kRle && !depth_m.data.empty())
+    return WriteFileBytes(path, EncodeDepthExrRle(depth_m));
   try {
     Imf::Header header(depth_m.width, depth_m.height);
     header.channels().insert("Z", Imf::Channel(Imf::FLOAT));

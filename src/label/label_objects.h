@@ -2,10 +2,12 @@
 // What the labeller needs to know of each object: its mesh, unit and the tracker bodies that carry it.
 // Filled from meshes/objects.yaml or a session's own objects.yaml (src/cli/objects_yaml.cc).
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "core/rigid3.h"
+#include "render/renderer.h"
 
 namespace mocap {
 
@@ -22,6 +24,8 @@ struct LabelObject {
   std::filesystem::path mesh_path;     ///< absolute
   double unit_scale_to_m = 1.0;        ///< mesh unit: 1 for metres, 0.001 for millimetres
   std::vector<BodyMount> mounts;       ///< one per instance; at least one
+  /// objects.yaml `cull_back_faces`; unset: LabelOptions::renderer's choice (kAuto by default).
+  std::optional<BackFaceCulling> back_face_culling = std::nullopt;
   /// Throws InputError naming `where` for an id out of range, an empty name or no mount.
   void check(const std::string& where) const;
 };

@@ -88,17 +88,14 @@ std::string FrameStem(int64_t index) {
 
 void WriteFrameImages(const std::filesystem::path& out_dir, const std::string& camera, int64_t index,
                       const RenderOutput& render, const std::vector<InstanceResult>& results, const cv::Mat& color,
-                      const FrameOutputOptions& options) {
+                      const cv::Mat& frame_masks, const FrameOutputOptions& options) {
   const std::filesystem::path dir = out_dir / camera;
   const std::string stem = FrameStem(index);
   WriteLabelPng(dir / "instance" / (stem + ".png"), ToMat(render.instance_ids));
   const LabelImage classes = ClassImage(render.instance_ids, results);
   WriteLabelPng(dir / "class" / (stem + ".png"), ToMat(classes));
   if (options.write_depth) WriteRenderedDepthExr(dir / "depth" / (stem + ".exr"), render.depth_m, options.depth_compression);
-  for (const InstanceResult& r : results) {
-    if (r.packed == nullptr || r.packed->bits.empty()) continue;
-    WriteLabelPng(dir / "mask_bits" / (stem + "_" + FrameStem(r.instance->instance_id) + ".png"), r.packed->bits);
-  }
+  if (!frame_masks.empty()) WriteLabelPng(dir / "mask_bits" / (stem + ".png"), frame_masks);
   if (options.write_bop_masks) WriteBopMasks(dir, stem, render, results);
   if (options.write_overlay && !color.empty())
     WriteLabelPng(dir / "overlay" / (stem + ".png"), Overlay(color, render, results));
@@ -141,6 +138,7 @@ nlohmann::json LabelRecord(const std::string& camera, int64_t index, const Camer
   if (result.packed != nullptr) {
     const PixelRect& m = result.packed->rect;
     j["mask_rect"] = m.empty() ? nlohmann::json() : nlohmann::json{m.x, m.y, m.width, m.height};
+    j["mask_row"] = m.empty() ? nlohmann::json() : nlohmann::json(result.packed->file_row);
   }
   return j;
 }

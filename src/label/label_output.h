@@ -1,6 +1,6 @@
 #pragma once
 // The files of a label run (docs/labels.md): per camera and frame the instance and class PNGs (uint16),
-// the rendered depth (OpenEXR, metres), one packed mask PNG per object carrying its three masks
+// the rendered depth (OpenEXR, metres), one mask PNG per frame carrying every object's three masks
 // (mask_file.h), optionally BOP-style full-size masks and an overlay, and one labels.jsonl record per
 // frame and object instance.
 #include <filesystem>
@@ -37,11 +37,11 @@ struct InstanceResult {
 /// "000123": the file stem of camera record `index`.
 std::string FrameStem(int64_t index);
 
-/// Writes a frame's images under out_dir/<camera>/. `color` may be empty (no overlay then). The packed
-/// masks are those of `results[i].packed`.
+/// Writes a frame's images under out_dir/<camera>/. `color` may be empty (no overlay then);
+/// `frame_masks` is StackMasks of the results' packed masks (empty: no mask file).
 void WriteFrameImages(const std::filesystem::path& out_dir, const std::string& camera, int64_t index,
                       const RenderOutput& render, const std::vector<InstanceResult>& results, const cv::Mat& color,
-                      const FrameOutputOptions& options);
+                      const cv::Mat& frame_masks, const FrameOutputOptions& options);
 
 /// The labels.jsonl record of one instance in one frame (field meanings in docs/labels.md).
 nlohmann::json LabelRecord(const std::string& camera, int64_t index, const CameraFrameRecord& frame,

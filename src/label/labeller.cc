@@ -10,6 +10,7 @@
 
 #include "core/check.h"
 #include "render/mesh.h"
+#include "render/mesh_closure.h"
 
 namespace mocap {
 namespace {
@@ -24,6 +25,24 @@ std::vector<Mesh> LoadMeshes(const std::vector<LabelObject>& objects) {
   // LoadMesh refuses a missing or unreadable file and a mesh whose extent does not fit its unit.
   for (const LabelObject& o : objects) meshes.push_back(LoadMesh(o.mesh_path.string(), o.unit_scale_to_m));
   return meshes;
+}
+
+/// Decides once per object whether its back faces are culled (kAuto analyses the mesh), so the workers
+/// upload with a fixed choice.
+std::vector<ObjectCulling> DecideCulling(const std::vector<LabelObject>& objects, const std::vector<Mesh>& meshes,
+                                         BackFaceCulling fallback) {
+  std::vector<ObjectCulling> decisions;
+  for (size_t i = 0; i < objects.size(); ++i) {
+    const BackFaceCulling mode = objects[i].back_face_culling.value_or(fallback);
+    ObjectCulling d{objects[i].name, mode == BackFaceCulling::kAlways, ToString(mode)};
+    if (mode == BackFaceCulling::kAuto) {
+      const MeshClosure closure = AnalyzeClosure(meshes[i]);
+      d.culled = closure.culling_exact();
+      d.reason = "auto: " + closure.Describe();
+    }
+    decisions.push_back(d);
+  }
+  return decisions;
 }
 
 fs::path PartialDir(const fs::path& out) {
@@ -112,6 +131,7 @@ void LabelFrame(const SessionReader& session, const std::vector<LabelObject>& ob
   const std::vector<ObjectLabels> labels =
       ComputeObjectLabels(worker.render, chain.camera(), use_depth ? &depth : nullptr, options.visibility);
   std::vector<PackedMasks> packed(options.output.write_masks ? labels.size() : 0);
+  std::vector<PackedMasks*> stacked;
   for (size_t k = 0; k < result_of_item.size(); ++k) {
     InstanceResult& r = results[result_of_item[k]];
     r.labels = &labels[k];
@@ -119,9 +139,11 @@ void LabelFrame(const SessionReader& session, const std::vector<LabelObject>& ob
     if (!options.output.write_masks) continue;
     packed[k] = PackMasks(labels[k].masks);
     r.packed = &packed[k];
+    stacked.push_back(&packed[k]);
   }
+  const cv::Mat frame_masks = StackMasks(stacked);
   clock.Lap(worker, &LabelStageSeconds::labels);
-  WriteFrameImages(out, job.camera, index, worker.render, results, color, options.output);
+  WriteFrameImages(out, job.camera, index, worker.render, results, color, frame_masks, options.output);
   clock.Lap(worker, &LabelStageSeconds::write);
   auto& lines = job.lines[static_cast<size_t>(index)];
   for (const InstanceResult& r : results) lines.push_back(LabelRecord(job.camera, index, entry.record, r, use_depth));
@@ -150,7 +172,9 @@ void RunWorkers(const SessionReader& session, const std::vector<LabelObject>& ob
       context->MakeCurrent();
       Renderer renderer(*context, options.renderer);
       std::vector<MeshHandle> handles;
-      for (const Mesh& m : meshes) handles.push_back(renderer.Upload(m));
+      for (size_t i = 0; i < meshes.size(); ++i)
+        handles.push_back(renderer.Upload(meshes[i], summary.culling[i].culled ? BackFaceCulling::kAlways
+                                                                                : BackFaceCulling::kNever));
       Worker worker{renderer, handles, {}, {}, {}};
       for (size_t w = next++; w < work.size() && !failed; w = next++)
         LabelFrame(session, objects, worker, jobs[work[w].first], work[w].second, options, out);
@@ -201,6 +225,12 @@ nlohmann::json StagesJson(const LabelStageSeconds& s) {
   return {{"render", s.render}, {"read_depth", s.read_depth}, {"labels", s.labels}, {"write", s.write}};
 }
 
+nlohmann::json CullingJson(const std::vector<ObjectCulling>& culling) {
+  nlohmann::json j = nlohmann::json::array();
+  for (const ObjectCulling& c : culling) j.push_back({{"object", c.object}, {"culled", c.culled}, {"reason", c.reason}});
+  return j;
+}
+
 nlohmann::json SummaryJson(const LabelSummary& s, const SessionReader& session) {
   return {{"session", fs::absolute(session.dir()).string()},
           {"complete", s.complete},
@@ -213,6 +243,7 @@ nlohmann::json SummaryJson(const LabelSummary& s, const SessionReader& session) 
           {"seconds", s.seconds},
           {"render_seconds", s.render_seconds},
           {"threads", s.threads},
+          {"back_face_culling", CullingJson(s.culling)},
           {"stage_seconds", StagesJson(s.stages)},
           {"stage_cpu_seconds", StagesJson(s.stages_cpu)}};
 }
@@ -259,6 +290,7 @@ LabelSummary LabelSession(const SessionReader& session, const std::vector<LabelO
   }
   const fs::path partial = PrepareOutput(options.out_dir, cameras, options.output);
   LabelSummary summary;
+  summary.culling = DecideCulling(objects, meshes, options.renderer.back_face_culling);
   RunWorkers(session, objects, meshes, jobs, options, partial, summary);
   WriteLines(jobs, partial / "labels.jsonl", summary);
   summary.seconds = SecondsSince(start);

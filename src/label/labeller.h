@@ -27,7 +27,9 @@ struct LabelOptions {
   FrameOutputOptions output;
   PoseChainOptions chain;
   VisibilityOptions visibility;
-  RendererOptions renderer;
+  /// Back faces are culled where that is exact (closed, outward meshes; per object, objects.yaml may
+  /// override it).
+  RendererOptions renderer{.back_face_culling = BackFaceCulling::kAuto};
   RenderContextOptions context;
   void check() const;
 };
@@ -43,6 +45,15 @@ struct LabelStageSeconds {
   LabelStageSeconds& operator+=(const LabelStageSeconds& o);
 };
 
+/// Whether an object's back faces were culled, and why.
+struct ObjectCulling {
+  std::string object;  ///< its name
+  bool culled = false;
+  /// "auto: closed and outward, ..." / "auto: 12 boundary edges" (AnalyzeClosure), or "always" / "never"
+  /// when objects.yaml or the options chose.
+  std::string reason;
+};
+
 struct LabelSummary {
   int64_t frames = 0;             ///< camera records labelled (colour or depth present)
   int64_t frames_skipped = 0;     ///< records whose image files are missing
@@ -55,6 +66,7 @@ struct LabelSummary {
   LabelStageSeconds stages;       ///< wall time per stage, summed over workers
   LabelStageSeconds stages_cpu;   ///< CPU time of the worker threads per stage
   int threads = 0;                ///< worker threads used
+  std::vector<ObjectCulling> culling;  ///< per object, in the objects' order
   std::filesystem::path out_dir;
   bool complete = false;
 };

@@ -1,5 +1,6 @@
 #include "label/mask_file.h"
 
+#include <algorithm>
 #include <opencv2/imgcodecs.hpp>
 
 #include "core/check.h"
@@ -36,6 +37,20 @@ PackedMasks PackMasks(const ObjectMasks& masks) {
   return packed;
 }
 
+cv::Mat StackMasks(const std::vector<PackedMasks*>& packed) {
+  int width = 0, height = 0;
+  for (PackedMasks* p : packed) {
+    if (p->bits.empty()) continue;
+    p->file_row = height;
+    height += p->bits.rows, width = std::max(width, p->bits.cols);
+  }
+  if (height == 0) return {};
+  cv::Mat stacked = cv::Mat::zeros(height, width, CV_8UC1);
+  for (const PackedMasks* p : packed)
+    if (!p->bits.empty()) p->bits.copyTo(stacked(cv::Rect(0, p->file_row, p->bits.cols, p->bits.rows)));
+  return stacked;
+}
+
 ObjectMasks UnpackMasks(const cv::Mat& bits, const PixelRect& rect, bool has_measured) {
   if (bits.type() != CV_8UC1 || bits.cols != rect.width || bits.rows != rect.height)
     throw InputError("mask file", Str("expected an 8-bit ", rect.width, "x", rect.height, " image (mask_rect), got ",
@@ -63,21 +78,17 @@ ObjectMasks UnpackMasks(const cv::Mat& bits, const PixelRect& rect, bool has_mea
   return masks;
 }
 
-ObjectMasks ReadMaskFile(const std::filesystem::path& png, const PixelRect& rect, bool has_measured) {
-  const cv::Mat bits = cv::imread(png.string(), cv::IMREAD_UNCHANGED);
-  if (bits.empty()) throw InputError(png.string(), "missing or not a readable PNG");
+ObjectMasks ReadMaskFile(const std::filesystem::path& png, const PixelRect& rect, bool has_measured, int first_row) {
+  const cv::Mat file = cv::imread(png.string(), cv::IMREAD_UNCHANGED);
+  if (file.empty()) throw InputError(png.string(), "missing or not a readable PNG");
+  if (first_row < 0 || rect.width < 0 || rect.height < 0 || file.cols < rect.width || file.rows < first_row + rect.height)
+    throw InputError(png.string(), Str("a ", file.cols, "x", file.rows, " mask file cannot hold a ", rect.width, "x",
+                                       rect.height, " crop at row ", first_row, " (mask_rect / mask_row)"));
   try {
-    return UnpackMasks(bits, rect, has_measured);
+    return UnpackMasks(file(cv::Rect(0, first_row, rect.width, rect.height)), rect, has_measured);
   } catch (const InputError& e) {
     throw InputError(png.string(), e.what());
   }
-}
-
-void WriteLabelPng(const std::filesystem::path& path, const cv::Mat& image) {
-  // OpenCV's speed path (SUB filter, zlib level 1) is taken only while no compression level is given;
-  // an explicit level lets libpng try every row filter, at about twice the cost (bench/RESULTS.md).
-  if (!cv::imwrite(path.string(), image, {cv::IMWRITE_PNG_STRATEGY, cv::IMWRITE_PNG_STRATEGY_RLE}))
-    throw InputError(path.string(), "could not write the image (disk full or not writable?)");
 }
 
 }  // namespace mocap

@@ -1,11 +1,14 @@
 #pragma once
-// One 8-bit PNG per object and frame carries all three masks (object_labels.h) as bits, cropped to the
-// in-image bounding box of the object's amodal mask; labels.jsonl records that box as `mask_rect`
+// All three masks (object_labels.h) of an object as bits, cropped to the in-image bounding box of its
+// amodal mask; one 8-bit PNG per frame holds the crops of all its objects stacked top to bottom, each
+// left-aligned (fewer files per frame: creating files is much of the output's cost on ext4).
+// labels.jsonl records each crop's box as `mask_rect` and its first row in the file as `mask_row`
 // (docs/labels.md). The masks are not nested (a pixel hidden in the model z-buffer can still agree with
 // the measured depth), hence bits rather than levels.
 #include <filesystem>
 #include <opencv2/core/mat.hpp>
 
+#include "label/label_png.h"
 #include "label/object_labels.h"
 
 namespace mocap {
@@ -20,22 +23,23 @@ inline constexpr uint8_t kMaskBitVisibleMeasured = 4;  ///< BOP19 `mask_visib` a
 struct PackedMasks {
   PixelRect rect;
   cv::Mat bits;
+  int file_row = 0;  ///< first row of `bits` in the frame's mask file (StackMasks)
 };
 
 /// Packs `masks` over the in-image box of masks.amodal (every visible pixel is an amodal pixel).
 PackedMasks PackMasks(const ObjectMasks& masks);
+
+/// Assigns each non-empty entry its `file_row` (in order) and returns the frame's mask image: the crops
+/// stacked, left-aligned, zero to the right of narrower ones. Empty when no entry covers a pixel.
+cv::Mat StackMasks(const std::vector<PackedMasks*>& packed);
 
 /// The exact inverse of PackMasks. `has_measured`: whether visible_measured is present (labels.jsonl
 /// `visib_source` is "measured_depth"); without it visible_measured stays empty. Throws InputError when
 /// `bits` does not have rect's size or holds values other than the three bits.
 ObjectMasks UnpackMasks(const cv::Mat& bits, const PixelRect& rect, bool has_measured);
 
-/// Reads a mask file written by the labeller; `rect` is its record's `mask_rect`. Throws InputError for a
-/// missing or unreadable file or one that does not match `rect`.
-ObjectMasks ReadMaskFile(const std::filesystem::path& png, const PixelRect& rect, bool has_measured);
-
-/// A PNG writer tuned for label images (large constant regions): the SUB row filter, zlib level 1 with
-/// the RLE strategy. Throws InputError when the file cannot be written.
-void WriteLabelPng(const std::filesystem::path& path, const cv::Mat& image);
+/// Reads one object's masks from a frame's mask file; `rect` and `first_row` are its record's `mask_rect`
+/// and `mask_row`. Throws InputError for a missing or unreadable file or one whose size cannot hold them.
+ObjectMasks ReadMaskFile(const std::filesystem::path& png, const PixelRect& rect, bool has_measured, int first_row = 0);
 
 }  // namespace mocap

@@ -50,10 +50,13 @@ Mesh MakeSphereMesh(double radius_m, int triangles) {
   mesh.source = "generated sphere";
   for (int r = 0; r <= rings; ++r) {
     const double theta = std::numbers::pi * r / rings;
+    // Exactly 0 at the poles (sin(pi) is 1.2e-16), so each pole ring is one position and the sphere is
+    // closed once vertices are welded (mesh_closure.h).
+    const double sin_theta = (r == 0 || r == rings) ? 0.0 : std::sin(theta);
     for (int s = 0; s < segments; ++s) {
       const double phi = 2 * std::numbers::pi * s / segments;
-      mesh.positions_m.emplace_back(static_cast<float>(radius_m * std::sin(theta) * std::cos(phi)),
-                                    static_cast<float>(radius_m * std::sin(theta) * std::sin(phi)),
+      mesh.positions_m.emplace_back(static_cast<float>(radius_m * sin_theta * std::cos(phi)),
+                                    static_cast<float>(radius_m * sin_theta * std::sin(phi)),
                                     static_cast<float>(radius_m * std::cos(theta)));
     }
   }

@@ -2,10 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
+#include <utility>
 
 #include "core/check.h"
 #include "render/gl.h"
 #include "render/gl_program.h"
+#include "render/mesh_closure.h"
 
 namespace mocap {
 namespace {
@@ -32,6 +35,7 @@ struct GpuMesh {
   GLuint vao = 0, vbo = 0, ebo = 0;
   GLsizei index_count = 0;
   std::array<Eigen::Vector3d, 8> box_corners_m;
+  bool cull_back_faces = false;
 };
 
 }  // namespace
@@ -57,16 +61,19 @@ struct Renderer::Gl {
 namespace {
 
 /// Canvas pixels the mesh's bounding box projects to (+1 px), clamped to the canvas; the whole canvas
-/// when a corner is not in front of the near plane.
-PixelRect ProjectedRect(const GpuMesh& mesh, const Rigid3d& T_camera_mesh, const CanvasIntrinsics& c, double near_m) {
+/// when a corner is not beyond the near plane (`beyond_near` false: the camera may be inside the mesh).
+PixelRect ProjectedRect(const GpuMesh& mesh, const Rigid3d& T_camera_mesh, const CanvasIntrinsics& c, double near_m,
+                        bool& beyond_near) {
   double u0 = 1e30, v0 = 1e30, u1 = -1e30, v1 = -1e30;
   const PixelRect all{0, 0, c.width, c.height};
+  beyond_near = false;
   for (const Eigen::Vector3d& corner : mesh.box_corners_m) {
     const Eigen::Vector3d p = T_camera_mesh * corner;
     if (p.z() < near_m) return all;
     const double u = c.fx * p.x() / p.z() + c.cx, v = c.fy * p.y() / p.z() + c.cy;
     u0 = std::min(u0, u), u1 = std::max(u1, u), v0 = std::min(v0, v), v1 = std::max(v1, v);
   }
+  beyond_near = true;
   const double lo = -1e6, hi = 1e6;  // keep the integer conversion defined for absurd poses
   const int x0 = static_cast<int>(std::floor(std::clamp(u0, lo, hi))) - 1;
   const int y0 = static_cast<int>(std::floor(std::clamp(v0, lo, hi))) - 1;
@@ -159,15 +166,12 @@ Renderer::Renderer(const RenderContext& context, const RendererOptions& options)
   gl_->clip_from_mesh = glGetUniformLocation(gl_->program, "clip_from_mesh");
   gl_->z_row = glGetUniformLocation(gl_->program, "z_row");
   gl_->framebuffers.resize(static_cast<size_t>(options.framebuffers));
-  if (options.cull_back_faces) {
-    // Image rows map to GL window rows unflipped (conventions.h), which mirrors the winding: a face whose
-    // outward normal points at the camera is clockwise in GL window coordinates.
-    glEnable(GL_CULL_FACE);
-    glFrontFace(GL_CW);
-    glCullFace(GL_BACK);
-  } else {
-    glDisable(GL_CULL_FACE);  // scanned meshes are not always closed
-  }
+  // Image rows map to GL window rows unflipped (conventions.h), which mirrors the winding: a face whose
+  // outward normal points at the camera is clockwise in GL window coordinates. Culling is switched on
+  // per draw (Render).
+  glFrontFace(GL_CW);
+  glCullFace(GL_BACK);
+  glDisable(GL_CULL_FACE);
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
   glEnable(GL_SCISSOR_TEST);
@@ -177,9 +181,18 @@ Renderer::Renderer(const RenderContext& context, const RendererOptions& options)
 
 Renderer::~Renderer() = default;
 
-MeshHandle Renderer::Upload(const Mesh& mesh) {
+MeshHandle Renderer::Upload(const Mesh& mesh) { return Upload(mesh, options_.back_face_culling); }
+
+bool Renderer::CullsBackFaces(MeshHandle mesh) const {
+  MOCAP_CHECK(mesh.index >= 0 && mesh.index < static_cast<int>(gl_->meshes.size()), "bad mesh handle");
+  return gl_->meshes[static_cast<size_t>(mesh.index)].cull_back_faces;
+}
+
+MeshHandle Renderer::Upload(const Mesh& mesh, BackFaceCulling culling) {
   MOCAP_CHECK(!mesh.indices.empty(), "uploading an empty mesh ", mesh.source);
   GpuMesh m;
+  m.cull_back_faces = culling == BackFaceCulling::kAlways ||
+                      (culling == BackFaceCulling::kAuto && AnalyzeClosure(mesh).culling_exact());
   const Eigen::Vector3d lo = mesh.min_m().cast<double>(), hi = mesh.max_m().cast<double>();
   for (int i = 0; i < 8; ++i)
     m.box_corners_m[i] = {(i & 1) ? hi.x() : lo.x(), (i & 2) ? hi.y() : lo.y(), (i & 4) ? hi.z() : lo.z()};
@@ -244,8 +257,12 @@ void Renderer::Render(const PinholeCamera& camera, std::span<const RenderItem> i
       MOCAP_CHECK(item.mesh.index >= 0 && item.mesh.index < static_cast<int>(gl_->meshes.size()), "bad mesh handle");
       MOCAP_CHECK(item.instance_id > 0, "instance id 0 is the background");
       const GpuMesh& mesh = gl_->meshes[static_cast<size_t>(item.mesh.index)];
-      rects[i] = ProjectedRect(mesh, item.T_camera_mesh, c, options_.near_m);
+      bool beyond_near = false;
+      rects[i] = ProjectedRect(mesh, item.T_camera_mesh, c, options_.near_m, beyond_near);
       if (rects[i].empty()) continue;
+      // Exact only with the camera outside the solid: a ray starting inside it meets a back face first.
+      if (mesh.cull_back_faces && beyond_near) glEnable(GL_CULL_FACE);
+      else glDisable(GL_CULL_FACE);
       glBindFramebuffer(GL_FRAMEBUFFER, gl_->framebuffers[i - first].fbo);
       glScissor(rects[i].x, rects[i].y, rects[i].width, rects[i].height);
       const float zero[4] = {0, 0, 0, 0};
@@ -272,6 +289,7 @@ void Renderer::Render(const PinholeCamera& camera, std::span<const RenderItem> i
     }
   }
   glBindVertexArray(0);
+  glDisable(GL_CULL_FACE);
   gl::CheckError("render");
 }
 

@@ -23,6 +23,7 @@
 #include "core/rigid3.h"
 #include "render/canvas.h"
 #include "render/mesh.h"
+#include "render/mesh_closure.h"
 #include "render/render_context.h"
 
 namespace mocap {
@@ -70,11 +71,9 @@ struct RendererOptions {
   /// parts outside the image (1.0 = BOP's 3x canvas). Costs memory only: rasterisation is clipped to
   /// each object's projected bounding box.
   double outside_margin_fraction = 1.0;
-  /// Skip triangles facing away from the camera (meshes with outward counter-clockwise winding, as PLY /
-  /// OBJ exports of scans are). About halves the CPU rasteriser's triangle setup; silhouettes of closed
-  /// meshes are unchanged, but a mesh with holes shows them (its inside is not drawn), and a mesh with
-  /// inward winding disappears. Off by default for that reason.
-  bool cull_back_faces = false;
+  /// Which meshes are drawn without their back faces (triangles facing away from the camera), for meshes
+  /// uploaded without their own choice. Culling about halves the CPU rasteriser's triangle setup.
+  BackFaceCulling back_face_culling = BackFaceCulling::kNever;
   /// Framebuffers in flight (pipelining on CPU rasterisers).
   int framebuffers = 3;
   void check() const;  ///< throws InputError
@@ -88,8 +87,12 @@ class Renderer {
   Renderer(const Renderer&) = delete;
   Renderer& operator=(const Renderer&) = delete;
 
-  /// Uploads the mesh's geometry once; render it any number of times by the handle.
+  /// Uploads the mesh's geometry once; render it any number of times by the handle. Culls its back faces
+  /// as options().back_face_culling or `culling` says (kAuto analyses the mesh once, here).
   MeshHandle Upload(const Mesh& mesh);
+  MeshHandle Upload(const Mesh& mesh, BackFaceCulling culling);
+  /// Whether the mesh's back faces are culled (in draws with its box beyond the near plane).
+  bool CullsBackFaces(MeshHandle mesh) const;
   /// Renders `items` into `camera` (its distortion included). Precondition: handles come from Upload,
   /// instance ids are > 0. Throws InputError for an invalid camera.
   RenderOutput Render(const PinholeCamera& camera, std::span<const RenderItem> items);

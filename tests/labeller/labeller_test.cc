@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <fstream>
+
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -32,6 +34,32 @@ LabelOptions Options(const std::filesystem::path& out) {
   options.threads = 2;
   options.output.write_overlay = true;
   return options;
+}
+
+TEST(Labeller, BackFaceCullingPerObject) {
+  // The marker object is an open square: kAuto keeps its back faces, objects.yaml may force culling,
+  // and the manifest says which was done and why.
+  const auto dir = FreshDir("culling");
+  const testing::SyntheticRig rig;
+  rig.WriteSession(dir / "S", 1);
+  std::vector<LabelObject> objects = {MarkerObject(dir, rig)};
+  const LabelSummary automatic = LabelSession(SessionReader::Open(dir / "S"), objects, Rig{}, Options(dir / "L"));
+  ASSERT_EQ(automatic.culling.size(), 1u);
+  EXPECT_FALSE(automatic.culling[0].culled);
+  EXPECT_NE(automatic.culling[0].reason.find("auto: 4 boundary edges"), std::string::npos) << automatic.culling[0].reason;
+  objects[0].back_face_culling = BackFaceCulling::kAlways;
+  const LabelSummary forced = LabelSession(SessionReader::Open(dir / "S"), objects, Rig{}, Options(dir / "L"));
+  EXPECT_TRUE(forced.culling[0].culled);
+  std::ifstream manifest(dir / "L" / "label_manifest.json");
+  const auto json = nlohmann::json::parse(manifest);
+  EXPECT_EQ(json["back_face_culling"][0]["reason"], "always");
+
+  std::ofstream(dir / "objects.yaml") << "objects:\n  - {id: 7, name: marker, mesh: marker.obj, unit: m, "
+                                          "tracker_body: objbody, cull_back_faces: never}\n";
+  EXPECT_EQ(cli::LoadObjectsYaml(dir / "objects.yaml")[0].back_face_culling, BackFaceCulling::kNever);
+  std::ofstream(dir / "objects.yaml") << "objects:\n  - {id: 7, name: marker, mesh: marker.obj, unit: m, "
+                                          "tracker_body: objbody, cull_back_faces: yes}\n";
+  EXPECT_THROW(cli::LoadObjectsYaml(dir / "objects.yaml"), InputError);
 }
 
 TEST(Labeller, PoseConventionsEndToEnd) {
@@ -66,7 +94,8 @@ TEST(Labeller, PoseConventionsEndToEnd) {
   ASSERT_TRUE(r.contains("mask_rect")) << r.dump();
   const auto& mr = r["mask_rect"];
   const PixelRect rect{mr[0], mr[1], mr[2], mr[3]};
-  const ObjectMasks masks = ReadMaskFile(dir / "L" / "cam" / "mask_bits" / "000000_000001.png", rect, false);
+  EXPECT_EQ(r["mask_row"], 0);  // the only object of the frame
+  const ObjectMasks masks = ReadMaskFile(dir / "L" / "cam" / "mask_bits" / "000000.png", rect, false);
   const Image<uint8_t> amodal = ToFullImage(masks.amodal, rect, cam.width, cam.height);
   const cv::Moments m =
       cv::moments(cv::Mat(cam.height, cam.width, CV_8UC1, const_cast<uint8_t*>(amodal.data.data())), true);

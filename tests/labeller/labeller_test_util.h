@@ -100,10 +100,12 @@ inline int CheckPackedMasks(const std::filesystem::path& labels, const std::vect
     if (!r.contains("mask_rect") || r["mask_rect"].is_null()) continue;
     const auto& m = r["mask_rect"];
     const PixelRect rect{m[0], m[1], m[2], m[3]};
-    char stem[32];
+    char stem[32], frame[32];
     std::snprintf(stem, sizeof(stem), "%06d_%06d.png", r["index"].get<int>(), r["instance"].get<int>());
+    std::snprintf(frame, sizeof(frame), "%06d.png", r["index"].get<int>());
     const auto camera = labels / r["camera"].get<std::string>();
-    const ObjectMasks masks = ReadMaskFile(camera / "mask_bits" / stem, rect, r["visib_source"] == "measured_depth");
+    const ObjectMasks masks =
+        ReadMaskFile(camera / "mask_bits" / frame, rect, r["visib_source"] == "measured_depth", r["mask_row"].get<int>());
     ExpectSameMask(masks.amodal, rect, camera / "mask" / stem);
     ExpectSameMask(masks.visible_model, rect, camera / "mask_visib" / stem);
     if (!masks.visible_measured.empty()) ExpectSameMask(masks.visible_measured, rect, camera / "mask_visib_depth" / stem);

@@ -69,6 +69,32 @@ TEST(MaskFile, ThreeMasksComeBackExactlyThroughThePng) {
   std::filesystem::remove_all(dir);
 }
 
+TEST(MaskFile, AFramesObjectsShareOneFile) {
+  // Two objects and one outside the image: the file stacks the two crops, each readable by its row.
+  const auto dir = testing::FreshDir("mask_file_stack");
+  ObjectMasks wide;
+  wide.rect = {5, 6, 20, 3};
+  wide.amodal.assign(60, 1);
+  wide.visible_model.assign(60, 0);
+  for (size_t i = 0; i < 60; i += 7) wide.visible_model[i] = 1;
+  const ObjectMasks disc = DiscMasks(false);
+  ObjectMasks outside = disc;
+  std::fill(outside.amodal.begin(), outside.amodal.end(), 0);
+  std::fill(outside.visible_model.begin(), outside.visible_model.end(), 0);
+  PackedMasks a = PackMasks(disc), none = PackMasks(outside), b = PackMasks(wide);
+  const cv::Mat file = StackMasks({&a, &none, &b});
+  EXPECT_EQ(file.cols, 20);
+  EXPECT_EQ(file.rows, 7 + 3);
+  EXPECT_EQ(a.file_row, 0);
+  EXPECT_EQ(b.file_row, 7);
+  WriteLabelPng(dir / "f.png", file);
+  ExpectSameFullMasks(disc, ReadMaskFile(dir / "f.png", a.rect, false, a.file_row));
+  ExpectSameFullMasks(wide, ReadMaskFile(dir / "f.png", b.rect, false, b.file_row));
+  EXPECT_THROW(ReadMaskFile(dir / "f.png", b.rect, false, 8), InputError);  // rows beyond the file
+  EXPECT_TRUE(StackMasks({&none}).empty());
+  std::filesystem::remove_all(dir);
+}
+
 TEST(MaskFile, NoFileForAnObjectOutsideTheImage) {
   ObjectMasks masks;
   masks.rect = {0, 0, 4, 4};

@@ -77,7 +77,7 @@ void ExpectCullingInvisible(const Mesh& mesh) {
   RenderOutput culled, full;
   for (bool cull : {false, true}) {
     const auto context = RenderContext::Create({.platform = EglPlatform::kSurfaceless});
-    Renderer renderer(*context, {.cull_back_faces = cull});
+    Renderer renderer(*context, {.back_face_culling = cull ? BackFaceCulling::kAlways : BackFaceCulling::kNever});
     ASSERT_EQ(renderer.Upload(mesh).index, 0);
     (cull ? culled : full) = renderer.Render(cam, std::span(&item, 1));
   }
@@ -96,6 +96,71 @@ TEST(Depth, BackFaceCullingKeepsClosedSilhouettes) {
   for (const Mesh& mesh : {LoadMesh(std::string(MOCAP_SHARED_DIR) + "/realdata/bop_lmo_scene2/models/obj_000001.ply", 0.001),
                            MakeBoxMesh({0.1, 0.05, 0.08}), MakeSphereMesh(0.05, 2000)})
     ExpectCullingInvisible(mesh);
+}
+
+/// The sphere without its upper half (an open bowl), tilted so that the camera looks into it.
+Mesh BowlMesh() {
+  const Mesh sphere = MakeSphereMesh(0.06, 3000);
+  Mesh bowl = sphere;
+  bowl.indices.clear();
+  for (size_t t = 0; t < sphere.indices.size(); t += 3) {
+    bool upper = false;
+    for (size_t k = 0; k < 3; ++k) upper = upper || sphere.positions_m[sphere.indices[t + k]].z() > 0.0f;
+    if (!upper) bowl.indices.insert(bowl.indices.end(), sphere.indices.begin() + t, sphere.indices.begin() + t + 3);
+  }
+  return bowl;
+}
+
+/// Renders `items` (mesh k of `meshes` is handle k) with the given culling choice.
+RenderOutput RenderWith(BackFaceCulling culling, const std::vector<Mesh>& meshes, const std::vector<RenderItem>& items,
+                        std::vector<bool>* culled = nullptr) {
+  const auto context = RenderContext::Create({.platform = EglPlatform::kSurfaceless});
+  Renderer renderer(*context, {.back_face_culling = culling});
+  for (const Mesh& m : meshes) {
+    const MeshHandle h = renderer.Upload(m);
+    if (culled) culled->push_back(renderer.CullsBackFaces(h));
+  }
+  return renderer.Render(TestCamera(false), items);
+}
+
+int DifferingPixels(const RenderOutput& a, const RenderOutput& b) {
+  int n = 0;
+  for (size_t i = 0; i < a.instance_ids.data.size(); ++i)
+    n += a.instance_ids.data[i] != b.instance_ids.data[i] || a.depth_m.data[i] != b.depth_m.data[i];
+  return n;
+}
+
+TEST(Depth, AutomaticCullingKeepsMasksOfClosedAndOpenMeshes) {
+  // A closed sphere in front of an open bowl whose inside faces the camera.
+  const std::vector<Mesh> meshes = {MakeSphereMesh(0.05, 3000), BowlMesh()};
+  const std::vector<RenderItem> items = {{MeshHandle{0}, Rigid3d::FromRvec({0.3, 0.2, 0}, {-0.04, 0.0, 0.6}), 1},
+                                         {MeshHandle{1}, Rigid3d::FromRvec({2.6, 0, 0}, {0.05, 0.02, 0.8}), 2}};
+  std::vector<bool> culled;
+  const RenderOutput all_faces = RenderWith(BackFaceCulling::kNever, meshes, items);
+  const RenderOutput automatic = RenderWith(BackFaceCulling::kAuto, meshes, items, &culled);
+  EXPECT_EQ(culled, (std::vector<bool>{true, false}));
+  int sphere_px = 0, bowl_px = 0;
+  for (uint16_t id : all_faces.instance_ids.data) sphere_px += id == 1, bowl_px += id == 2;
+  EXPECT_GT(sphere_px, 3000);
+  EXPECT_GT(bowl_px, 3000);
+  EXPECT_EQ(DifferingPixels(all_faces, automatic), 0);
+  for (size_t k = 0; k < items.size(); ++k) EXPECT_EQ(all_faces.layers[k].depth_m, automatic.layers[k].depth_m);
+  // Forcing culling on the bowl loses its inside: the check above could fail.
+  EXPECT_GT(DifferingPixels(all_faces, RenderWith(BackFaceCulling::kAlways, meshes, items)), 1000);
+}
+
+TEST(Depth, NoCullingWithTheCameraInsideAClosedMesh) {
+  // A 1 m closed box around the camera: only its inward-facing (back) faces are visible.
+  const std::vector<Mesh> meshes = {MakeBoxMesh({1.0, 1.0, 1.0})};
+  const std::vector<RenderItem> items = {{MeshHandle{0}, Rigid3d::FromRvec({0.1, 0.2, 0}, {0.05, 0, 0.1}), 1}};
+  const RenderOutput all_faces = RenderWith(BackFaceCulling::kNever, meshes, items);
+  std::vector<bool> culled;
+  const RenderOutput automatic = RenderWith(BackFaceCulling::kAuto, meshes, items, &culled);
+  EXPECT_EQ(culled, std::vector<bool>{true});
+  int covered = 0;
+  for (uint16_t id : all_faces.instance_ids.data) covered += id == 1;
+  EXPECT_EQ(covered, 640 * 480);
+  EXPECT_EQ(DifferingPixels(all_faces, automatic), 0);
 }
 
 }  // namespace
