@@ -106,7 +106,7 @@ RerecordResult RerecordSession(const RerecordOptions& options) {
   camera_options.origin_ns = origin_ns;
   camera_options.start_host_ns = start_host_ns;
   std::vector<std::unique_ptr<CaptureSource>> sources;
-  sources.push_back(CreateSessionCameraReplay(camera_options));
+  sources.push_back(CreateSessionCameraReplay(camera_options, source));  // a copy: `source` is read below
   sources.push_back(CreateNdiSource(ndi_options));
 
   CaptureDaemonOptions daemon_options;

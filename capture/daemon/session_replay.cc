@@ -209,7 +209,11 @@ std::string OnlyTracker(const SessionManifest& manifest) {
 
 std::unique_ptr<CaptureSource> CreateSessionCameraReplay(const SessionCameraReplayOptions& options) {
   options.check();
-  SessionReader session = SessionReader::Open(options.session_dir);
+  return CreateSessionCameraReplay(options, SessionReader::Open(options.session_dir));
+}
+
+std::unique_ptr<CaptureSource> CreateSessionCameraReplay(const SessionCameraReplayOptions& options, SessionReader session) {
+  options.check();
   const std::string camera = options.camera.empty() ? OnlyCamera(session.manifest()) : options.camera;
   if (camera.empty() || !session.manifest().FindCamera(camera))
     throw InputError(options.session_dir.string(), Str("has no camera stream '", camera, "' to replay"));

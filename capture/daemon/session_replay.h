@@ -35,6 +35,9 @@ struct SessionCameraReplayOptions {
 /// counted late (device_status: late_frames, max_late_ms). Throws InputError (a missing session or camera)
 /// when created; a frame that cannot be read becomes an "error" event and is not pushed.
 std::unique_ptr<CaptureSource> CreateSessionCameraReplay(const SessionCameraReplayOptions& options);
+/// The same over a session already open (`session` is options.session_dir's), so a caller that read it
+/// does not read it again.
+std::unique_ptr<CaptureSource> CreateSessionCameraReplay(const SessionCameraReplayOptions& options, SessionReader session);
 
 /// The bodies of `tracker` in `session` ("" = its only tracker) as recorded, in the manifest's order.
 /// Throws InputError when the tracker is absent or ambiguous.
