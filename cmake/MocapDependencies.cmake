@@ -18,6 +18,8 @@ if(BUILD_BENCHMARKS)
   find_package(PCL 1.10 QUIET COMPONENTS common io registration kdtree search)
 endif()
 find_package(ZLIB REQUIRED)
+# Whole-buffer inflate and CRC-32/Adler-32 (SIMD) for the depth PNG decoder and the label encoders.
+pkg_check_modules(LIBDEFLATE REQUIRED IMPORTED_TARGET libdeflate)
 find_package(OpenEXR 3 REQUIRED CONFIG)
 # Headless rendering: EGL + desktop OpenGL through glvnd (libEGL, libOpenGL), meshes through assimp.
 set(OpenGL_GL_PREFERENCE GLVND)

@@ -2,6 +2,7 @@
 
 #include <fcntl.h>
 #include <unistd.h>
+#include <libdeflate.h>
 #include <zlib.h>
 
 #include <cerrno>
@@ -52,7 +53,7 @@ uint8_t* BeginChunk(uint8_t* at, const char* type, size_t size) {
 
 /// Appends the CRC (over type and data) of the chunk whose data starts at `data`; returns the end.
 uint8_t* EndChunk(uint8_t* data, size_t size) {
-  PutU32(data + size, static_cast<uint32_t>(crc32(0L, data - 4, static_cast<uInt>(size + 4))));
+  PutU32(data + size, static_cast<uint32_t>(libdeflate_crc32(0, data - 4, size + 4)));
   return data + size + 4;
 }
 

@@ -15,6 +15,7 @@
 
 #include "core/check.h"
 #include "session/durable_file.h"
+#include "session/png_gray16.h"
 
 namespace mocap {
 namespace fs = std::filesystem;
@@ -22,9 +23,13 @@ namespace fs = std::filesystem;
 namespace {
 
 std::vector<uint8_t> ReadBytes(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
   if (!in) throw InputError(path.string(), fs::exists(path) ? "cannot open the image" : "image file is missing");
-  return std::vector<uint8_t>(std::istreambuf_iterator<char>(in), {});
+  std::vector<uint8_t> bytes(static_cast<size_t>(in.tellg()));
+  in.seekg(0);
+  if (!in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(bytes.size())))
+    throw InputError(path.string(), "cannot read the image");
+  return bytes;
 }
 
 bool EndsWith(const std::vector<uint8_t>& bytes, std::initializer_list<uint8_t> tail) {
@@ -48,10 +53,14 @@ void CheckWhole(const std::vector<uint8_t>& bytes, const fs::path& path) {
   }
 }
 
-cv::Mat Decode(const fs::path& path, int flags) {
-  const std::vector<uint8_t> bytes = ReadBytes(path);
+std::vector<uint8_t> ReadWholeImage(const fs::path& path) {
+  std::vector<uint8_t> bytes = ReadBytes(path);
   if (bytes.empty()) throw InputError(path.string(), "image file is empty");
   CheckWhole(bytes, path);
+  return bytes;
+}
+
+cv::Mat Decode(const fs::path& path, const std::vector<uint8_t>& bytes, int flags) {
   cv::Mat image;
   try {
     image = cv::imdecode(bytes, flags);
@@ -147,14 +156,17 @@ void WriteDepthExr(const fs::path& path, const cv::Mat& depth, double depth_unit
 }
 
 cv::Mat ReadColor(const fs::path& path) {
-  cv::Mat image = Decode(path, cv::IMREAD_COLOR);
+  cv::Mat image = Decode(path, ReadWholeImage(path), cv::IMREAD_COLOR);
   MOCAP_CHECK(image.type() == CV_8UC3, "IMREAD_COLOR gave type ", image.type());
   return image;
 }
 
 DepthImage ReadDepth(const fs::path& path, double depth_unit_m) {
   if (path.extension() == ".exr") return ReadDepthExr(path);
-  const cv::Mat raw = Decode(path, cv::IMREAD_ANYDEPTH | cv::IMREAD_GRAYSCALE);
+  const std::vector<uint8_t> bytes = ReadWholeImage(path);
+  // The common case, 16-bit greyscale PNG, takes the fast decoder; any other kind goes to OpenCV.
+  if (std::optional<DepthImage> depth = DecodeGray16Png(bytes, depth_unit_m, path.string())) return std::move(*depth);
+  const cv::Mat raw = Decode(path, bytes, cv::IMREAD_ANYDEPTH | cv::IMREAD_GRAYSCALE);
   if (raw.type() != CV_16UC1)
     throw InputError(path.string(), "depth PNG must be 16-bit single-channel (this one is 8-bit or colour)");
   DepthImage depth(raw.cols, raw.rows);
