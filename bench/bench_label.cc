@@ -18,6 +18,7 @@
 #include "render/primitives.h"
 #include "session/image_io.h"
 #include "session/writer.h"
+#include "sim/kinect1_model.h"
 
 namespace mocap {
 namespace {
@@ -40,6 +41,29 @@ Rigid3d ObjectPose(int i, int64_t t_ns) {
   return Rigid3d::FromRvec({0.3 * i, 0.2 + 0.5 * s, 0}, {-0.15 + 0.12 * i + 0.1 * s, 0.03 * i, 0.7 + 0.1 * i});
 }
 
+double SphereRadiusM(int i) { return 0.06 + 0.02 * i; }
+
+/// What a Kinect v1 measures of the scene at `t_ns`: the spheres and the wall, ray-cast exactly, then
+/// the sensor model's noise, disparity quantisation, shadows and dropped edges (sim/kinect1_model.h), so
+/// the measured depth PNGs cost to decode what real ones do.
+cv::Mat MeasuredDepth(int64_t t_ns, uint64_t seed) {
+  DepthImage clean(kCamera.width, kCamera.height, 1.5f);
+  for (int i = 0; i < 3; ++i) {
+    const Eigen::Vector3d c = ObjectPose(i, t_ns).translation();
+    const double r2 = SphereRadiusM(i) * SphereRadiusM(i);
+    for (int v = 0; v < kCamera.height; ++v)
+      for (int u = 0; u < kCamera.width; ++u) {
+        const Eigen::Vector3d d((u - kCamera.cx) / kCamera.fx, (v - kCamera.cy) / kCamera.fy, 1.0);
+        const double dc = d.dot(c), disc = dc * dc - d.squaredNorm() * (c.squaredNorm() - r2);
+        if (disc < 0) continue;
+        const auto z = static_cast<float>((dc - std::sqrt(disc)) / d.squaredNorm());  // depth = ray parameter
+        clean.at(u, v) = std::min(clean.at(u, v), z);
+      }
+  }
+  sim::Kinect1Frame frame = sim::SimulateKinect1(clean, {}, kCamera, sim::Kinect1Options{}, seed);
+  return cv::Mat(kCamera.height, kCamera.width, CV_32FC1, frame.depth_m.data.data()).clone();
+}
+
 fs::path WriteBenchSession(const fs::path& dir, std::vector<LabelObject>& objects) {
   SessionManifest manifest;
   manifest.source = "bench";
@@ -52,7 +76,7 @@ fs::path WriteBenchSession(const fs::path& dir, std::vector<LabelObject>& object
   manifest.trackers.push_back({"ndi", "sim", "", "tracker", {"cambody", "obj0", "obj1", "obj2"}});
   for (int i = 0; i < 3; ++i) {
     const fs::path mesh = dir / ("sphere" + std::to_string(i) + ".obj");
-    WriteObj(MakeSphereMesh(0.06 + 0.02 * i, 20000), mesh);
+    WriteObj(MakeSphereMesh(SphereRadiusM(i), 20000), mesh);
     objects.push_back({.id = i + 1, .name = "sphere" + std::to_string(i), .object_class = "sphere",
                        .mesh_path = mesh, .unit_scale_to_m = 1.0, .mounts = {{"obj" + std::to_string(i), {}}}});
   }
@@ -64,12 +88,11 @@ fs::path WriteBenchSession(const fs::path& dir, std::vector<LabelObject>& object
                                          ObjectPose(i, t), 0, 0});
   }
   const cv::Mat color(480, 640, CV_8UC3, cv::Scalar(90, 110, 130));
-  const cv::Mat depth(480, 640, CV_16UC1, cv::Scalar(1500));
   for (int f = 0; f < kFrames; ++f) {
     CameraFrameRecord record;
     record.frame = f;
     record.stamp_ns = 20 * kMs + f * 33 * kMs;
-    writer->WriteCameraFrame("kinect1", record, color, depth);
+    writer->WriteCameraFrame("kinect1", record, color, MeasuredDepth(record.stamp_ns, static_cast<uint64_t>(f)));
   }
   writer->Close();
   return dir / "S";
@@ -165,9 +188,11 @@ fs::path FreshBenchDir(const std::string& name) {
 struct LabelledOnce {
   fs::path dir = FreshBenchDir("labelled");
   fs::path images;
+  fs::path session_depth;  ///< frame 0's measured depth, as the session stores it (16-bit PNG)
   LabelledOnce() {
     std::vector<LabelObject> objects;
     const SessionReader session = SessionReader::Open(WriteBenchSession(dir, objects));
+    session_depth = session.DepthPath("kinect1", 0);
     LabelOptions options = VariantOptions(dir / "L", 1, 1);
     options.output.depth_compression = DepthCompression::kNone;
     LabelSession(session, objects, Rig{}, options);
@@ -176,10 +201,27 @@ struct LabelledOnce {
   ~LabelledOnce() { fs::remove_all(dir); }
 };
 
-const fs::path& LabelledImages() {
+const LabelledOnce& Labelled() {
   static const LabelledOnce labelled;
-  return labelled.images;
+  return labelled;
 }
+const fs::path& LabelledImages() { return Labelled().images; }
+
+/// Reading the session's measured depth (arg 0: ReadDepth, libdeflate + our row unfiltering, to float
+/// metres; arg 1: OpenCV's imread through libpng + zlib, to 16-bit units only).
+void BM_MeasuredDepthPng(benchmark::State& state) {
+  const fs::path& png = Labelled().session_depth;
+  for (auto _ : state) {
+    if (state.range(0) == 0) {
+      benchmark::DoNotOptimize(ReadDepth(png, 0.001));
+    } else {
+      benchmark::DoNotOptimize(cv::imread(png.string(), cv::IMREAD_ANYDEPTH));
+    }
+  }
+  state.counters["kB"] = static_cast<double>(fs::file_size(png)) / 1e3;
+  state.SetLabel(state.range(0) == 0 ? "ReadDepth (libdeflate)" : "cv::imread (libpng)");
+}
+BENCHMARK(BM_MeasuredDepthPng)->DenseRange(0, 1)->Unit(benchmark::kMillisecond);
 
 /// Cost and size of each lossless OpenEXR codec on rendered depth (one thread).
 void BM_DepthExrCodec(benchmark::State& state) {
