@@ -28,8 +28,9 @@ void PrintHuman(const LabelSummary& s) {
               static_cast<long long>(s.records), static_cast<long long>(s.records_with_pose));
   std::printf("flagged frames: %lld", static_cast<long long>(s.frames_flagged));
   for (const auto& [flag, n] : s.flag_counts) std::printf("  %s=%lld", flag.c_str(), static_cast<long long>(n));
-  std::printf("\n%.2f s (render %.2f s summed over threads); output in %s\n", s.seconds, s.render_seconds,
-              s.out_dir.string().c_str());
+  const double rate = s.frames_seconds > 0 ? static_cast<double>(s.frames) / s.frames_seconds : 0.0;
+  std::printf("\n%.2f s: set-up %.2f s, then %.1f frames/s (render %.2f s summed over threads); output in %s\n",
+              s.seconds, s.setup_seconds, rate, s.render_seconds, s.out_dir.string().c_str());
 }
 
 }  // namespace
@@ -80,7 +81,8 @@ int RunLabel(int argc, char** argv) {
     const nlohmann::json j = {{"frames", summary.frames},          {"frames_skipped", summary.frames_skipped},
                               {"records", summary.records},        {"records_with_pose", summary.records_with_pose},
                               {"frames_flagged", summary.frames_flagged}, {"flag_counts", summary.flag_counts},
-                              {"seconds", summary.seconds},        {"render_seconds", summary.render_seconds},
+                              {"seconds", summary.seconds},        {"setup_seconds", summary.setup_seconds},
+                              {"frames_seconds", summary.frames_seconds}, {"render_seconds", summary.render_seconds},
                               {"complete", summary.complete},      {"out", summary.out_dir.string()}};
     std::printf("%s\n", j.dump().c_str());
   } else {

@@ -60,16 +60,30 @@ void PutHeader(std::vector<uint8_t>& out, int width, int height) {
 }
 
 /// OpenEXR's RLE preprocessing of one scanline's little-endian bytes: even bytes then odd bytes, each
-/// byte replaced by its difference to the previous one plus 128 (mod 256).
+/// byte replaced by its difference to the one before it in that order plus 128 (mod 256). Written as
+/// two forward passes over the input so that they vectorise.
 void SplitAndPredict(const uint8_t* __restrict line, size_t size, std::vector<uint8_t>& split) {
   split.resize(size);  // size is even: whole floats
-  uint8_t* __restrict even = split.data();
-  uint8_t* __restrict odd = split.data() + size / 2;
   const size_t half = size / 2;
-  for (size_t i = 0; i < half; ++i) even[i] = line[2 * i], odd[i] = line[2 * i + 1];
-  // Differences from right to left so that each reads its predecessor before that is replaced.
-  uint8_t* __restrict t = split.data();
-  for (size_t i = size - 1; i > 0; --i) t[i] = static_cast<uint8_t>(t[i] - t[i - 1] + 128);
+  uint8_t* __restrict even = split.data();
+  uint8_t* __restrict odd = split.data() + half;
+  even[0] = line[0];
+  for (size_t i = 1; i < half; ++i) even[i] = static_cast<uint8_t>(line[2 * i] - line[2 * i - 2] + 128);
+  odd[0] = static_cast<uint8_t>(line[1] - line[2 * half - 2] + 128);  // follows the last even byte
+  for (size_t i = 1; i < half; ++i) odd[i] = static_cast<uint8_t>(line[2 * i + 1] - line[2 * i - 1] + 128);
+}
+
+/// How many bytes from `at` on (before `end`) equal `byte`, eight at a time where they can.
+size_t EqualBytes(const uint8_t* at, const uint8_t* end, uint8_t byte) {
+  const uint64_t pattern = 0x0101010101010101ull * byte;
+  const auto limit = static_cast<size_t>(end - at);
+  size_t n = 0;
+  for (uint64_t word = 0; n + 8 <= limit; n += 8) {
+    std::memcpy(&word, at + n, 8);
+    if (word != pattern) break;
+  }
+  while (n < limit && at[n] == byte) ++n;
+  return n;
 }
 
 /// A scanline of zeros (no surface), as one chunk payload: the same for every such line of the image.
@@ -103,7 +117,9 @@ void AppendExrRle(const uint8_t* in, size_t size, std::vector<uint8_t>& out) {
   const uint8_t* run_start = in;
   const uint8_t* run_end = in + 1;
   while (run_start < end) {
-    while (run_end < end && *run_start == *run_end && run_end - run_start - 1 < kMaxRun) ++run_end;
+    // OpenEXR's rleCompress: extend while equal and the run is at most kMaxRun + 1 bytes long
+    const uint8_t* limit = end - run_start > kMaxRun + 1 ? run_start + kMaxRun + 1 : end;
+    run_end += EqualBytes(run_end, limit, *run_start);
     if (run_end - run_start >= kMinRun) {  // a run: count - 1, then the byte
       *write++ = static_cast<uint8_t>(run_end - run_start - 1);
       *write++ = *run_start;

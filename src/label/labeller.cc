@@ -108,6 +108,7 @@ void LabelFrame(const SessionReader& session, const std::vector<LabelObject>& ob
                 int64_t index, const LabelOptions& options, const fs::path& out) {
   const CameraFrameEntry& entry = session.frame(job.camera, index);
   if (!entry.color_present && !entry.depth_present) return;
+  StageClock clock;
   const PoseChain& chain = *job.chain;
   std::vector<InstanceResult> results(chain.instances().size());
   std::vector<RenderItem> items;
@@ -120,7 +121,7 @@ void LabelFrame(const SessionReader& session, const std::vector<LabelObject>& ob
     items.push_back({worker.handles[object_index], *results[i].pose.T_camera_mesh, results[i].instance->instance_id});
     result_of_item.push_back(i);
   }
-  StageClock clock;
+  clock.Lap(worker, &LabelStageSeconds::labels);  // the pose chain's lookups
   worker.renderer.Render(chain.camera(), items, worker.render);
   clock.Lap(worker, &LabelStageSeconds::render);
   const bool use_depth = entry.depth_present && job.depth_registered;
@@ -147,6 +148,7 @@ void LabelFrame(const SessionReader& session, const std::vector<LabelObject>& ob
   clock.Lap(worker, &LabelStageSeconds::write);
   auto& lines = job.lines[static_cast<size_t>(index)];
   for (const InstanceResult& r : results) lines.push_back(LabelRecord(job.camera, index, entry.record, r, use_depth));
+  clock.Lap(worker, &LabelStageSeconds::labels);
 }
 
 int WorkerCount(const LabelOptions& options, size_t work_items) {
@@ -158,7 +160,8 @@ int WorkerCount(const LabelOptions& options, size_t work_items) {
 /// Runs the workers, each with its own EGL context, over every (camera, frame). Rethrows the first error
 /// of any worker after all have stopped. Fills the summary's stage times and thread count.
 void RunWorkers(const SessionReader& session, const std::vector<LabelObject>& objects, const std::vector<Mesh>& meshes,
-                std::vector<CameraJob>& jobs, const LabelOptions& options, const fs::path& out, LabelSummary& summary) {
+                std::vector<CameraJob>& jobs, const LabelOptions& options, const fs::path& out, Clock::time_point start,
+                LabelSummary& summary) {
   std::vector<std::pair<size_t, int64_t>> work;
   for (size_t j = 0; j < jobs.size(); ++j)
     for (int64_t i = 0; i < static_cast<int64_t>(jobs[j].lines.size()); ++i) work.emplace_back(j, i);
@@ -166,6 +169,7 @@ void RunWorkers(const SessionReader& session, const std::vector<LabelObject>& ob
   std::atomic<bool> failed{false};
   std::exception_ptr error;
   std::mutex mutex;
+  Clock::time_point first_frame = Clock::time_point::max(), last_frame = start;
   auto run = [&] {
     try {
       const auto context = RenderContext::Create(options.context);
@@ -176,9 +180,11 @@ void RunWorkers(const SessionReader& session, const std::vector<LabelObject>& ob
         handles.push_back(renderer.Upload(meshes[i], summary.culling[i].culled ? BackFaceCulling::kAlways
                                                                                 : BackFaceCulling::kNever));
       Worker worker{renderer, handles, {}, {}, {}};
+      const Clock::time_point begin = Clock::now();
       for (size_t w = next++; w < work.size() && !failed; w = next++)
         LabelFrame(session, objects, worker, jobs[work[w].first], work[w].second, options, out);
       std::lock_guard lock(mutex);
+      first_frame = std::min(first_frame, begin), last_frame = std::max(last_frame, Clock::now());
       summary.stages += worker.wall;
       summary.stages_cpu += worker.cpu;
     } catch (...) {
@@ -193,6 +199,8 @@ void RunWorkers(const SessionReader& session, const std::vector<LabelObject>& ob
   for (std::thread& t : pool) t.join();
   if (error) std::rethrow_exception(error);
   summary.render_seconds = summary.stages.render;
+  summary.setup_seconds = std::chrono::duration<double>(first_frame - start).count();
+  summary.frames_seconds = std::chrono::duration<double>(last_frame - first_frame).count();
 }
 
 void WriteLines(const std::vector<CameraJob>& jobs, const fs::path& file, LabelSummary& summary) {
@@ -241,6 +249,8 @@ nlohmann::json SummaryJson(const LabelSummary& s, const SessionReader& session) 
           {"frames_flagged", s.frames_flagged},
           {"flag_counts", s.flag_counts},
           {"seconds", s.seconds},
+          {"setup_seconds", s.setup_seconds},
+          {"frames_seconds", s.frames_seconds},
           {"render_seconds", s.render_seconds},
           {"threads", s.threads},
           {"back_face_culling", CullingJson(s.culling)},
@@ -291,7 +301,7 @@ LabelSummary LabelSession(const SessionReader& session, const std::vector<LabelO
   const fs::path partial = PrepareOutput(options.out_dir, cameras, options.output);
   LabelSummary summary;
   summary.culling = DecideCulling(objects, meshes, options.renderer.back_face_culling);
-  RunWorkers(session, objects, meshes, jobs, options, partial, summary);
+  RunWorkers(session, objects, meshes, jobs, options, partial, start, summary);
   WriteLines(jobs, partial / "labels.jsonl", summary);
   summary.seconds = SecondsSince(start);
   summary.complete = true;

@@ -39,7 +39,7 @@ struct LabelOptions {
 struct LabelStageSeconds {
   double render = 0;      ///< Renderer::Render (rasterisation, readback, the combined z-buffer)
   double read_depth = 0;  ///< loading the measured depth (and the colour for an overlay)
-  double labels = 0;      ///< masks and statistics (ComputeObjectLabels) and packing the masks
+  double labels = 0;      ///< poses, masks and statistics, packing the masks, the labels.jsonl records
   double write = 0;       ///< encoding and writing the image files of the frame
   double total() const { return render + read_depth + labels + write; }
   LabelStageSeconds& operator+=(const LabelStageSeconds& o);
@@ -61,7 +61,13 @@ struct LabelSummary {
   int64_t records_with_pose = 0;
   int64_t frames_flagged = 0;     ///< frames with at least one flagged instance
   std::map<std::string, int64_t> flag_counts;
-  double seconds = 0;
+  double seconds = 0;             ///< wall clock of the whole run
+  /// Wall clock until the first frame was started: meshes loaded, output folders made, a worker's EGL
+  /// context created and the meshes uploaded (a fixed cost per run, whatever the session's length).
+  double setup_seconds = 0;
+  /// Wall clock from the first frame started to the last one written: frames / frames_seconds is the
+  /// labelling rate a long session sees.
+  double frames_seconds = 0;
   double render_seconds = 0;      ///< summed over workers (= stages.render)
   LabelStageSeconds stages;       ///< wall time per stage, summed over workers
   LabelStageSeconds stages_cpu;   ///< CPU time of the worker threads per stage
