@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 
 #include "core/check.h"
 
@@ -88,12 +89,16 @@ void VisibilityOptions::check() const {
 }
 
 PixelBox MaskBox(const std::vector<uint8_t>& mask, const PixelRect& rect) {
-  int x0 = INT32_MAX, y0 = INT32_MAX, x1 = -1, y1 = -1;
+  int x0 = INT32_MAX, y0 = -1, x1 = -1, y1 = -1;
+  const auto set = [](uint8_t m) { return m != 0; };
   for (int v = 0; v < rect.height; ++v) {
-    for (int u = 0; u < rect.width; ++u) {
-      if (!mask[static_cast<size_t>(v) * rect.width + u]) continue;
-      x0 = std::min(x0, u), x1 = std::max(x1, u), y0 = std::min(y0, v), y1 = std::max(y1, v);
-    }
+    // Each row only from both ends inwards to its first and last set pixel.
+    const uint8_t* row = mask.data() + static_cast<size_t>(v) * rect.width;
+    const uint8_t* first = std::find_if(row, row + rect.width, set);
+    if (first == row + rect.width) continue;
+    const auto last = std::find_if(std::make_reverse_iterator(row + rect.width), std::make_reverse_iterator(first), set);
+    x0 = std::min(x0, static_cast<int>(first - row)), x1 = std::max(x1, static_cast<int>(last.base() - row) - 1);
+    y0 = y0 < 0 ? v : y0, y1 = v;
   }
   if (x1 < 0) return {-1, -1, -1, -1};
   return {rect.x + x0, rect.y + y0, x1 - x0, y1 - y0};  // BOP: w = x_max - x_min

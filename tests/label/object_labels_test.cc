@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <numbers>
+#include <random>
 
 #include "core/check.h"
 #include "render/primitives.h"
@@ -122,6 +123,25 @@ TEST_F(ObjectLabelsTest, DeltaGrowsWithDepth) {
 TEST_F(ObjectLabelsTest, WrongDepthSizeIsAnError) {
   const DepthImage small(320, 240, 1.0f);
   EXPECT_THROW(ComputeObjectLabels(render_, kCamera, &small), InputError);
+}
+
+TEST(MaskBox, MatchesEveryPixelScan) {
+  std::mt19937 rng(3);
+  for (int trial = 0; trial < 300; ++trial) {
+    const PixelRect rect{static_cast<int>(rng() % 50), static_cast<int>(rng() % 50), 1 + static_cast<int>(rng() % 40),
+                         1 + static_cast<int>(rng() % 40)};
+    std::vector<uint8_t> mask(static_cast<size_t>(rect.width) * rect.height, 0);
+    const int fill = static_cast<int>(rng() % 4);  // 0: empty mask, else about 1 pixel in 20, 100, 1000
+    for (uint8_t& m : mask) m = fill > 0 && rng() % (fill == 1 ? 20 : fill == 2 ? 100 : 1000) == 0 ? 1 : 0;
+    int x0 = INT32_MAX, y0 = INT32_MAX, x1 = -1, y1 = -1;
+    for (int v = 0; v < rect.height; ++v)
+      for (int u = 0; u < rect.width; ++u)
+        if (mask[static_cast<size_t>(v) * rect.width + u])
+          x0 = std::min(x0, u), x1 = std::max(x1, u), y0 = std::min(y0, v), y1 = std::max(y1, v);
+    const PixelBox expected =
+        x1 < 0 ? PixelBox{-1, -1, -1, -1} : PixelBox{rect.x + x0, rect.y + y0, x1 - x0, y1 - y0};
+    EXPECT_EQ(MaskBox(mask, rect), expected) << "trial " << trial;
+  }
 }
 
 TEST(PoseFields, ObjectToCameraInOpenCvAxes) {
