@@ -14,21 +14,27 @@ cv::Mat ToMat(const LabelImage& image) {
   return cv::Mat(image.height, image.width, CV_16UC1, const_cast<uint16_t*>(image.data.data()));
 }
 
-/// Object ids per pixel, through a lookup from instance id (one pass over the image), into a buffer
-/// of the calling thread that the next call overwrites (no fresh pages to fault in per frame).
-const LabelImage& ClassImage(const LabelImage& instance_ids, const std::vector<InstanceResult>& results) {
+/// Object ids per pixel, through a lookup from instance id, into a buffer of the calling thread that the
+/// next call overwrites (no fresh pages to fault in per frame). Only the objects' rectangles are looked
+/// up: no instance id lies outside them.
+const LabelImage& ClassImage(const RenderOutput& render, const std::vector<InstanceResult>& results) {
   std::vector<uint16_t> class_of(1, 0);
   for (const InstanceResult& r : results) {
     const uint16_t id = r.instance->instance_id;
     if (class_of.size() <= id) class_of.resize(id + 1u, 0);
     class_of[id] = static_cast<uint16_t>(r.instance->object->id);
   }
+  const LabelImage& ids = render.instance_ids;
   thread_local LabelImage classes;
-  classes.width = instance_ids.width, classes.height = instance_ids.height;
-  classes.data.resize(instance_ids.data.size());
-  for (size_t i = 0; i < classes.data.size(); ++i) {
-    const uint16_t id = instance_ids.data[i];
-    classes.data[i] = id < class_of.size() ? class_of[id] : 0;
+  classes.width = ids.width, classes.height = ids.height;
+  classes.data.assign(ids.data.size(), 0);
+  for (const ObjectLayer& layer : render.layers) {
+    const PixelRect& r = layer.rect;
+    for (int v = r.y; v < r.y + r.height; ++v)
+      for (int u = r.x; u < r.x + r.width; ++u) {
+        const uint16_t id = ids.at(u, v);
+        classes.at(u, v) = id < class_of.size() ? class_of[id] : 0;
+      }
   }
   return classes;
 }
@@ -95,7 +101,7 @@ void WriteFrameImages(const std::filesystem::path& out_dir, const std::string& c
   const std::filesystem::path dir = out_dir / camera;
   const std::string stem = FrameStem(index);
   WriteLabelPng(dir / "instance" / (stem + ".png"), ToMat(render.instance_ids));
-  const LabelImage& classes = ClassImage(render.instance_ids, results);
+  const LabelImage& classes = ClassImage(render, results);
   WriteLabelPng(dir / "class" / (stem + ".png"), ToMat(classes));
   if (options.write_depth) WriteRenderedDepthExr(dir / "depth" / (stem + ".exr"), render.depth_m, options.depth_compression);
   if (!frame_masks.empty()) WriteLabelPng(dir / "mask_bits" / (stem + ".png"), frame_masks);

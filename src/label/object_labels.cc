@@ -54,16 +54,23 @@ ObjectLabels LabelOne(const ObjectLayer& layer, const RenderOutput& render, cons
   if (measured) m.visible_measured.assign(n, 0);
   int valid = 0, visible_measured = 0, visible_model = 0, inside = 0;
   for (int v = m.rect.y; v < m.rect.y + m.rect.height; ++v) {
-    for (int u = m.rect.x; u < m.rect.x + m.rect.width; ++u) {
-      const size_t i = static_cast<size_t>(v - m.rect.y) * m.rect.width + (u - m.rect.x);
-      const float z = layer.depth_m[i];
+    // Row pointers, so that the pixel loop indexes without recomputing image offsets.
+    const size_t row = static_cast<size_t>(v - m.rect.y) * m.rect.width;
+    const float* z_row = layer.depth_m.data() + row;
+    const uint16_t* id_row = &render.instance_ids.at(m.rect.x, v);
+    const float* measured_row = measured ? &measured->at(m.rect.x, v) : nullptr;
+    uint8_t* amodal = m.amodal.data() + row;
+    uint8_t* model = m.visible_model.data() + row;
+    uint8_t* consistent = measured ? m.visible_measured.data() + row : nullptr;
+    for (int k = 0; k < m.rect.width; ++k) {
+      const float z = z_row[k];
       if (!(z > 0.0f)) continue;
-      m.amodal[i] = 1, ++inside;
-      if (render.instance_ids.at(u, v) == layer.instance_id) m.visible_model[i] = 1, ++visible_model;
-      if (!measured) continue;
-      const float zm = measured->at(u, v);
+      amodal[k] = 1, ++inside;
+      if (id_row[k] == layer.instance_id) model[k] = 1, ++visible_model;
+      if (!measured_row) continue;
+      const float zm = measured_row[k];
       valid += zm > 0.0f;
-      if (VisibleInMeasured(camera, u, v, z, zm, max_ray, options)) m.visible_measured[i] = 1, ++visible_measured;
+      if (VisibleInMeasured(camera, m.rect.x + k, v, z, zm, max_ray, options)) consistent[k] = 1, ++visible_measured;
     }
   }
   s.bbox_obj = layer.bbox_obj;

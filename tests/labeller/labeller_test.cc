@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <fstream>
+#include <map>
 
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -129,6 +130,34 @@ TEST(Labeller, PackedMasksEqualTheBopStyleMasks) {
   const int all = lines[0]["px_count_all"], visib = lines[0]["px_count_visib"];
   EXPECT_GT(visib, 0);
   EXPECT_LT(visib, all);
+  std::filesystem::remove_all(dir);
+}
+
+TEST(Labeller, ClassImageHoldsEachInstancePixelsObjectId) {
+  // Two objects (ids 7 and 9), the second on the camera's body 3 cm beside the first: every pixel of the
+  // class image is the object id of the instance the instance image names there, 0 on the background.
+  const auto dir = FreshDir("classes");
+  const testing::SyntheticRig rig;
+  rig.WriteSession(dir / "S", 1);
+  LabelObject second = MarkerObject(dir, rig);
+  second.id = 9, second.name = "second";
+  second.mounts[0] = {"cambody", rig.T_cambody_camera * rig.T_camera_mesh * Rigid3d::FromRvec({0, 0, 0}, {0.03, 0, 0})};
+  LabelSession(SessionReader::Open(dir / "S"), {MarkerObject(dir, rig), second}, Rig{}, Options(dir / "L"));
+  std::map<int, int> object_of_instance;
+  for (const auto& line : ReadJsonLines(dir / "L" / "labels.jsonl")) object_of_instance[line["instance"]] = line["object"];
+  ASSERT_EQ(object_of_instance.size(), 2u);
+  const cv::Mat instances = cv::imread((dir / "L" / "cam" / "instance" / "000000.png").string(), cv::IMREAD_UNCHANGED);
+  const cv::Mat classes = cv::imread((dir / "L" / "cam" / "class" / "000000.png").string(), cv::IMREAD_UNCHANGED);
+  ASSERT_EQ(classes.type(), CV_16UC1);
+  std::map<int, int> pixels_of_class;
+  for (int v = 0; v < classes.rows; ++v)
+    for (int u = 0; u < classes.cols; ++u) {
+      const int instance = instances.at<uint16_t>(v, u), object = classes.at<uint16_t>(v, u);
+      ASSERT_EQ(object, instance == 0 ? 0 : object_of_instance.at(instance)) << "pixel " << u << ", " << v;
+      ++pixels_of_class[object];
+    }
+  EXPECT_GE(pixels_of_class[7], 3);  // a 6 mm square 0.8 m away
+  EXPECT_GE(pixels_of_class[9], 3);
   std::filesystem::remove_all(dir);
 }
 
