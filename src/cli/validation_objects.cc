@@ -37,13 +37,9 @@ SymmetryAxis ParseSymmetry(const fs::path& file, const YAML::Node& node) {
 std::optional<SymmetryAxis> ChooseSymmetry(const fs::path& file, const YAML::Node& list) {
   if (!list) return std::nullopt;
   if (!list.IsSequence()) throw InputError(Where(file, list), "'symmetries' must be a list");
-  std::optional<SymmetryAxis> discrete;
-  for (const auto& node : list) {
-    const SymmetryAxis s = ParseSymmetry(file, node);
-    if (s.step_deg == 0) return s;
-    if (!discrete) discrete = s;
-  }
-  return discrete;
+  std::vector<SymmetryAxis> symmetries;
+  for (const auto& node : list) symmetries.push_back(ParseSymmetry(file, node));
+  return ChooseValidatorSymmetry(symmetries);
 }
 
 }  // namespace

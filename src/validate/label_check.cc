@@ -110,6 +110,13 @@ void DecideVerdict(const VerdictOptions& o, LabelCheck* c) {
   c->reason = differs;
 }
 
+std::optional<SymmetryAxis> ChooseValidatorSymmetry(const std::vector<SymmetryAxis>& symmetries) {
+  for (const SymmetryAxis& s : symmetries)
+    if (s.step_deg == 0) return s;
+  if (symmetries.empty()) return std::nullopt;
+  return symmetries.front();
+}
+
 Rigid3d NearestSymmetricPose(const Rigid3d& T_camera_object, const Rigid3d& T_camera_object_reference,
                              const SymmetryAxis& symmetry) {
   const Eigen::Vector3d a = symmetry.axis_object.normalized();

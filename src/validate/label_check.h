@@ -93,6 +93,11 @@ struct SymmetryAxis {
   double step_deg = 0.0;  ///< 0: continuous; else the discrete step, 360 / step_deg an integer >= 2
 };
 
+/// The one symmetry the validator compares modulo, from an object's list (objects.yaml order): the first
+/// continuous one, else the first discrete one, else none. A continuous symmetry contains every discrete
+/// one about the same axis; about different axes only one can be applied.
+std::optional<SymmetryAxis> ChooseValidatorSymmetry(const std::vector<SymmetryAxis>& symmetries);
+
 /// T_camera_object rotated about the object's symmetry axis (by an allowed angle) to the pose nearest in
 /// rotation to T_camera_object_reference (an equally valid pose of a symmetric object).
 Rigid3d NearestSymmetricPose(const Rigid3d& T_camera_object, const Rigid3d& T_camera_object_reference,

@@ -11,14 +11,10 @@ std::vector<ValidationObject> ValidationObjects(const RecordResult& record, cons
                                                 const RigCalibration& calibration) {
   std::vector<ValidationObject> objects;
   for (const LabelObject& o : MakeLabelInputs(record, library, calibration).objects) {
-    ValidationObject object{o.id, o.name, o.mesh_path, o.unit_scale_to_m, std::nullopt};
-    // As `mocaplabel validate` (cli/validation_objects.h): the first continuous symmetry, else the
-    // first discrete one.
+    std::vector<SymmetryAxis> symmetries;
     for (const Symmetry& s : library.Find(o.name)->symmetries)
-      if (s.type == Symmetry::Type::kContinuous && !object.symmetry) object.symmetry = SymmetryAxis{s.axis, s.offset_m, 0.0};
-    for (const Symmetry& s : library.Find(o.name)->symmetries)
-      if (s.type == Symmetry::Type::kDiscrete && !object.symmetry) object.symmetry = SymmetryAxis{s.axis, s.offset_m, s.angle_deg};
-    objects.push_back(object);
+      symmetries.push_back({s.axis, s.offset_m, s.type == Symmetry::Type::kContinuous ? 0.0 : s.angle_deg});
+    objects.push_back({o.id, o.name, o.mesh_path, o.unit_scale_to_m, ChooseValidatorSymmetry(symmetries)});
   }
   return objects;
 }
