@@ -70,8 +70,8 @@ void BM_Acquisition_Ours(benchmark::State& state) {
   const Fixture& f = Data();
   size_t k = 0;
   for (auto _ : state) {
-    const KdTree tree(f.scene);
-    const AcquisitionResult r = AcquireAround(f.scene, tree, *f.source, f.priors[k++ % f.priors.size()],
+    const PointGrid grid(f.scene);
+    const AcquisitionResult r = AcquireAround(f.scene, grid, *f.source, f.priors[k++ % f.priors.size()],
                                               f.options.acquisition, f.options.alignment);
     Report(state, r.T_camera_model);
   }
@@ -103,8 +103,8 @@ void BM_Acquisition_Pcl(benchmark::State& state) {
   const AcquisitionOptions& acq = f.options.acquisition;
   std::vector<AcquisitionResult> setups;
   for (const auto& prior : f.priors) {
-    const KdTree tree(f.scene);
-    setups.push_back(AcquireAround(f.scene, tree, *f.source, prior, acq, f.options.alignment));
+    const PointGrid grid(f.scene);
+    setups.push_back(AcquireAround(f.scene, grid, *f.source, prior, acq, f.options.alignment));
   }
   const bench::PclIcpSettings coarse{acq.icp.initial_correspondence_distance_m, acq.icp.max_iterations, 1e-8};
   const bench::PclIcpSettings refine{acq.refine_icp.max_correspondence_distance_m, acq.refine_icp.max_iterations, 1e-10};
@@ -112,7 +112,7 @@ void BM_Acquisition_Pcl(benchmark::State& state) {
   for (auto _ : state) {
     const AcquisitionResult& s = setups[k++ % setups.size()];
     const bench::PclScene pcl_scene(f.scene);
-    const KdTree tree(f.scene);
+    const PointGrid grid(f.scene);
     const int n = static_cast<int>(s.hypotheses.size());
     std::vector<Rigid3d> poses(n);
     std::vector<double> scores(n);
@@ -120,7 +120,7 @@ void BM_Acquisition_Pcl(benchmark::State& state) {
     for (int i = 0; i < n; ++i) {
       const PointCloud crop = EveryNth(s.crops[s.hypotheses[i].crop_index].points_model, acq.hypothesis_stride);
       poses[i] = pcl_scene.Align(crop, s.hypotheses[i].T_camera_model_init, coarse);
-      scores[i] = ScoreAlignment(crop, poses[i], tree, f.options.alignment).score;
+      scores[i] = ScoreAlignment(crop, poses[i], grid, f.options.alignment).score;
     }
     const std::vector<size_t> order = Ranked(scores);
     const int count = std::min(acq.refine_count, n);
@@ -130,7 +130,7 @@ void BM_Acquisition_Pcl(benchmark::State& state) {
     for (int j = 0; j < count; ++j) {
       const ModelCrop crop = f.source->Crop(poses[order[j]]);
       refined[j] = pcl_scene.Align(crop.points_model, poses[order[j]], refine);
-      refined_scores[j] = ScoreAlignment(crop.points_model, refined[j], tree, f.options.alignment).score;
+      refined_scores[j] = ScoreAlignment(crop.points_model, refined[j], grid, f.options.alignment).score;
     }
     Report(state, refined[Ranked(refined_scores).front()]);
   }
@@ -145,11 +145,11 @@ void BM_Tracking_Ours(benchmark::State& state) {
   for (auto _ : state) {
     filter.Predict(stamp += 33'333'333);
     const PointCloud pruned = CropToBox(f.scene, f.predicted, box);
-    const KdTree tree(pruned);
+    const PointGrid grid(pruned);
     const ModelCrop crop = f.source->Crop(f.predicted);
-    const IcpResult r = AlignPointToPoint(crop.points_model, tree, f.predicted, f.options.tracking.icp);
+    const IcpResult r = AlignPointToPoint(crop.points_model, grid, f.predicted, f.options.tracking.icp);
     state.counters["icp_its"] = r.iterations;
-    const double score = ScoreAlignment(crop.points_model, r.T_target_source, tree, f.options.alignment).score;
+    const double score = ScoreAlignment(crop.points_model, r.T_target_source, grid, f.options.alignment).score;
     benchmark::DoNotOptimize(filter.Update(r.T_target_source, score));
     Report(state, r.T_target_source);
   }
@@ -163,10 +163,10 @@ void BM_Tracking_Pcl(benchmark::State& state) {
   for (auto _ : state) {
     const PointCloud pruned = CropToBox(f.scene, f.predicted, box);
     const bench::PclScene pcl_scene(pruned);
-    const KdTree tree(pruned);
+    const PointGrid grid(pruned);
     const ModelCrop crop = f.source->Crop(f.predicted);
     const Rigid3d T = pcl_scene.Align(crop.points_model, f.predicted, settings);
-    benchmark::DoNotOptimize(ScoreAlignment(crop.points_model, T, tree, f.options.alignment).score);
+    benchmark::DoNotOptimize(ScoreAlignment(crop.points_model, T, grid, f.options.alignment).score);
     Report(state, T);
   }
 }

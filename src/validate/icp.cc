@@ -63,8 +63,8 @@ Rigid3d SolveFromMoments(const Moments& m) {
 }
 
 /// One correspondence pass. `matches` holds each source point's match of the previous pass (or
-/// KdTree::kNoHint): the points move little between iterations, so it starts each search close by.
-Moments Correspond(const PointCloud& source, const KdTree& target, const Rigid3d& T, double gate_m, int stride,
+/// PointGrid::kNoHint): the points move little between iterations, so it starts each search close by.
+Moments Correspond(const PointCloud& source, const PointGrid& target, const Rigid3d& T, double gate_m, int stride,
                    std::vector<size_t>* matches) {
   const Eigen::Matrix3d R = T.rotation_matrix();
   const Eigen::Vector3d t = T.translation();
@@ -78,7 +78,7 @@ Moments Correspond(const PointCloud& source, const KdTree& target, const Rigid3d
     if (target.NearestFrom(R * s + t, gate_m, &match, &d2) && d2 <= gate_sq)
       m.Add(s, target.point(match), d2);
     else
-      match = KdTree::kNoHint;
+      match = PointGrid::kNoHint;
   }
   return m;
 }
@@ -137,7 +137,7 @@ std::string_view ToString(IcpStopReason reason) {
   return "unknown";
 }
 
-IcpResult AlignPointToPoint(const PointCloud& source, const KdTree& target, const Rigid3d& T_target_source_init,
+IcpResult AlignPointToPoint(const PointCloud& source, const PointGrid& target, const Rigid3d& T_target_source_init,
                             const IcpOptions& options) {
   IcpResult result;
   result.T_target_source = T_target_source_init;
@@ -149,7 +149,7 @@ IcpResult AlignPointToPoint(const PointCloud& source, const KdTree& target, cons
   if (options.accelerate)
     accelerator.emplace(source, options.acceleration_angle_deg, options.acceleration_max_factor);
   std::optional<Trial> trial;
-  std::vector<size_t> matches(source.size(), KdTree::kNoHint);
+  std::vector<size_t> matches(source.size(), PointGrid::kNoHint);
   result.reason = IcpStopReason::kMaxIterations;
   while (result.iterations < options.max_iterations) {
     const Moments m = Correspond(source, target, result.T_target_source, gate_m, stride, &matches);

@@ -6,7 +6,7 @@
 #include <string_view>
 
 #include "core/rigid3.h"
-#include "validate/kdtree.h"
+#include "validate/point_grid.h"
 #include "validate/point_cloud.h"
 
 namespace mocap {
@@ -56,7 +56,7 @@ struct IcpResult {
 
 /// Registers `source` (points in the source frame) to the scene indexed by `target`, starting from
 /// `T_target_source_init`. Precondition: options.check() passed.
-IcpResult AlignPointToPoint(const PointCloud& source, const KdTree& target, const Rigid3d& T_target_source_init,
+IcpResult AlignPointToPoint(const PointCloud& source, const PointGrid& target, const Rigid3d& T_target_source_init,
                             const IcpOptions& options);
 
 /// The rigid transform minimising sum |R s_i + t - t_i|^2 (Umeyama 1991 without scale), from paired
