@@ -108,7 +108,7 @@ void PointGrid::ComputeEmptyRings() {
     for (int y = 0; y < dims_.y(); ++y)
       for (int x = 0; x < dims_.x(); ++x) {
         const size_t c = CellIndex(x, y, z);
-        if (cell_start_[c + 1] > cell_start_[c]) empty_rings_[PaddedBlock(Eigen::Vector3i(x, y, z))] = 0;
+        if (cell_start_[c + 1] > cell_start_[c]) empty_rings_[PaddedBlock(x, y, z)] = 0;
       }
   // Two raster passes over the 26-neighbourhood give the exact chessboard distance (Borgefors 1986).
   std::array<std::ptrdiff_t, 13> offsets{};
@@ -120,19 +120,21 @@ void PointGrid::ComputeEmptyRings() {
   ChamferPass(padded, offsets, false, &empty_rings_);
 }
 
-size_t PointGrid::PaddedBlock(const Eigen::Vector3i& cell) const {
-  const Eigen::Vector3i b = cell / kBlockCells;  // cells are >= 0 here
-  return (static_cast<size_t>(b.z() + 1) * static_cast<size_t>(block_dims_.y() + 2) + static_cast<size_t>(b.y() + 1)) *
-             static_cast<size_t>(block_dims_.x() + 2) + static_cast<size_t>(b.x() + 1);
+size_t PointGrid::PaddedBlock(int x, int y, int z) const {
+  // Cells are >= 0 here, so the division floors.
+  const size_t bx = static_cast<size_t>(x / kBlockCells + 1), by = static_cast<size_t>(y / kBlockCells + 1),
+               bz = static_cast<size_t>(z / kBlockCells + 1);
+  return (bz * static_cast<size_t>(block_dims_.y() + 2) + by) * static_cast<size_t>(block_dims_.x() + 2) + bx;
 }
 
 int PointGrid::FirstRing(const Eigen::Vector3i& cell) const {
   // A cell in a block k >= 1 blocks away is at least kBlockCells * (k - 1) + 1 cells away. From a cell
   // outside the grid: at least the chessboard distance to the grid, and at least the bound at the
   // nearest grid cell less that.
-  const Eigen::Vector3i clamped = cell.array().max(0).min(dims_.array() - 1);
-  const int outside = (cell - clamped).cwiseAbs().maxCoeff();
-  const int blocks = empty_rings_[PaddedBlock(clamped)];
+  const int x = std::clamp(cell.x(), 0, dims_.x() - 1), y = std::clamp(cell.y(), 0, dims_.y() - 1),
+            z = std::clamp(cell.z(), 0, dims_.z() - 1);
+  const int outside = std::max({std::abs(cell.x() - x), std::abs(cell.y() - y), std::abs(cell.z() - z)});
+  const int blocks = empty_rings_[PaddedBlock(x, y, z)];
   const int inner = blocks == 0 ? 0 : kBlockCells * (blocks - 1) + 1;
   return std::max(outside, inner - outside);
 }
@@ -140,14 +142,17 @@ int PointGrid::FirstRing(const Eigen::Vector3i& cell) const {
 void PointGrid::ScanRing(const Eigen::Vector3f& query, const Eigen::Vector3i& cell, int ring,
                          const Eigen::Vector3i& lo, const Eigen::Vector3i& hi, float* best_sq, uint32_t* best) const {
   // Cells x0..x1 of a row hold one contiguous run of points (the points are sorted by cell), so a run
-  // of cells costs two loads however many of them are empty.
+  // of cells costs two loads however many of them are empty. The best is kept in locals: through the
+  // pointers the compiler would reload it for every point (a float* may alias the points).
+  float nearest_sq = *best_sq;
+  uint32_t nearest = *best;
   const auto scan = [&](size_t row, int x0, int x1) {
     const uint32_t end = cell_start_[row + static_cast<size_t>(x1) + 1];
     for (uint32_t i = cell_start_[row + static_cast<size_t>(x0)]; i < end; ++i) {
       const float d_sq = (points_[i] - query).squaredNorm();
-      if (d_sq < *best_sq) {
-        *best_sq = d_sq;
-        *best = i;
+      if (d_sq < nearest_sq) {
+        nearest_sq = d_sq;
+        nearest = i;
       }
     }
   };
@@ -164,6 +169,8 @@ void PointGrid::ScanRing(const Eigen::Vector3f& query, const Eigen::Vector3i& ce
       if (ring > 0 && cell.x() + ring <= hi.x()) scan(row, cell.x() + ring, cell.x() + ring);
     }
   }
+  *best_sq = nearest_sq;
+  *best = nearest;
 }
 
 void PointGrid::Search(const Eigen::Vector3f& query, float* best_sq, uint32_t* best) const {

@@ -64,8 +64,8 @@ class PointGrid {
   /// The lowest ring around `cell` (any cell, inside the grid or not) that can hold a point.
   int FirstRing(const Eigen::Vector3i& cell) const;
   void ComputeEmptyRings();
-  /// Index into empty_rings_ of the block holding grid cell `cell`.
-  size_t PaddedBlock(const Eigen::Vector3i& cell) const;
+  /// Index into empty_rings_ of the block holding grid cell (x, y, z).
+  size_t PaddedBlock(int x, int y, int z) const;
   size_t CellIndex(int x, int y, int z) const {
     return (static_cast<size_t>(z) * static_cast<size_t>(dims_.y()) + static_cast<size_t>(y)) *
                static_cast<size_t>(dims_.x()) + static_cast<size_t>(x);
