@@ -2,7 +2,9 @@
 // Point-to-point ICP (Besl & McKay) with the closed-form SVD step of Umeyama/Kabsch per iteration, the
 // registration the paper uses for both acquisition and tracking ("We use a point-to-point ICP").
 // One pass per iteration: nearest neighbours are accumulated into first and second moments, no
-// correspondence list is stored.
+// correspondence list is stored. Each source point remembers its last search (its match and how far
+// that match was proven the only scene point around it), so that a point that has moved less than the
+// proof covers keeps its match without a search: exact, and most points of a converging registration.
 #include <string_view>
 
 #include "core/rigid3.h"

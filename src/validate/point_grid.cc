@@ -11,6 +11,7 @@ namespace mocap {
 namespace {
 
 constexpr uint8_t kFarRing = 255;
+constexpr uint32_t kNone = std::numeric_limits<uint32_t>::max();
 /// Edge of the blocks of the empty-ring transform, in cells.
 constexpr int kBlockCells = 2;
 /// Lower bounds lose this much (in cells) to the float rounding of the points' cell assignment.
@@ -24,6 +25,17 @@ constexpr float kMaxCellCoordinate = 1e6f;
 Eigen::Vector3i FloorToInt(const Eigen::Vector3f& x) {
   const Eigen::Vector3i truncated = x.cast<int>();
   return truncated - (x.array() < truncated.cast<float>().array()).cast<int>().matrix();
+}
+
+/// Offers point `index` at `d_sq` to a search's answer: it becomes the nearest or may be the second.
+inline void Consider(float d_sq, uint32_t index, PointGrid::Best* b) {
+  if (d_sq < b->sq) {
+    if (b->index != kNone) b->second_sq = std::min(b->second_sq, b->sq);
+    b->sq = d_sq;
+    b->index = index;
+  } else if (d_sq < b->second_sq && index != b->index) {
+    b->second_sq = d_sq;
+  }
 }
 
 /// The 13 neighbours of a cell that precede it in raster order (z, then y, then x).
@@ -140,21 +152,16 @@ int PointGrid::FirstRing(const Eigen::Vector3i& cell) const {
 }
 
 void PointGrid::ScanRing(const Eigen::Vector3f& query, const Eigen::Vector3i& cell, int ring,
-                         const Eigen::Vector3i& lo, const Eigen::Vector3i& hi, float* best_sq, uint32_t* best) const {
+                         const Eigen::Vector3i& lo, const Eigen::Vector3i& hi, Best* best) const {
+  // The best is kept in locals: through the pointer the compiler would reload it for every point (a
+  // float* may alias the points).
+  Best b = *best;
   // Cells x0..x1 of a row hold one contiguous run of points (the points are sorted by cell), so a run
-  // of cells costs two loads however many of them are empty. The best is kept in locals: through the
-  // pointers the compiler would reload it for every point (a float* may alias the points).
-  float nearest_sq = *best_sq;
-  uint32_t nearest = *best;
+  // of cells costs two loads however many of them are empty.
   const auto scan = [&](size_t row, int x0, int x1) {
     const uint32_t end = cell_start_[row + static_cast<size_t>(x1) + 1];
-    for (uint32_t i = cell_start_[row + static_cast<size_t>(x0)]; i < end; ++i) {
-      const float d_sq = (points_[i] - query).squaredNorm();
-      if (d_sq < nearest_sq) {
-        nearest_sq = d_sq;
-        nearest = i;
-      }
-    }
+    for (uint32_t i = cell_start_[row + static_cast<size_t>(x0)]; i < end; ++i)
+      Consider((points_[i] - query).squaredNorm(), i, &b);
   };
   for (int z = lo.z(); z <= hi.z(); ++z) {
     const bool z_face = std::abs(z - cell.z()) == ring;
@@ -169,40 +176,35 @@ void PointGrid::ScanRing(const Eigen::Vector3f& query, const Eigen::Vector3i& ce
       if (ring > 0 && cell.x() + ring <= hi.x()) scan(row, cell.x() + ring, cell.x() + ring);
     }
   }
-  *best_sq = nearest_sq;
-  *best = nearest;
+  *best = b;
 }
 
-void PointGrid::Search(const Eigen::Vector3f& query, float* best_sq, uint32_t* best) const {
+float PointGrid::Search(const Eigen::Vector3f& query, float margin_m, Best* best) const {
   const Eigen::Vector3f box_max = origin_ + dims_.cast<float>() * cell_m_;
-  const Eigen::Vector3f outside_m = (origin_ - query).cwiseMax(query - box_max).cwiseMax(0.0f);
-  if (!(outside_m.squaredNorm() < *best_sq)) return;  // also for a NaN query
+  const float outside_m = (origin_ - query).cwiseMax(query - box_max).cwiseMax(0.0f).norm();
+  if (!(outside_m < std::sqrt(best->sq) + margin_m)) return std::isnan(outside_m) ? 0.0f : outside_m;
   const Eigen::Vector3f g = (query - origin_) * inv_cell_;
   if (!(g.cwiseAbs().maxCoeff() < kMaxCellCoordinate)) {
-    for (uint32_t i = 0; i < points_.size(); ++i) {
-      const float d_sq = (points_[i] - query).squaredNorm();
-      if (d_sq < *best_sq) {
-        *best_sq = d_sq;
-        *best = i;
-      }
-    }
-    return;
+    // A query this far from the grid: every point is examined.
+    for (uint32_t i = 0; i < points_.size(); ++i) Consider((points_[i] - query).squaredNorm(), i, best);
+    return std::numeric_limits<float>::infinity();
   }
   const Eigen::Vector3i cell = FloorToInt(g);
   const Eigen::Vector3f frac = g - cell.cast<float>();
   // Cells from the query to the nearest face of its own cell: ring r >= 1 lies at least r - 1 + face away.
   const float face = std::min(frac.minCoeff(), 1.0f - frac.maxCoeff());
   for (int ring = FirstRing(cell);; ++ring) {
+    // Every point within `radius` must be examined: the nearest, and the margin beyond it.
+    const float radius_m = std::sqrt(best->sq) + margin_m;
     const float lower_cells = ring == 0 ? 0.0f : std::max(0.0f, ring - 1 + face - kSlackCells);
-    if (lower_cells * lower_cells * cell_m_ * cell_m_ >= *best_sq) break;
-    // Only cells that intersect the box around the current best's ball can improve on it.
-    const float reach = std::min(std::sqrt(*best_sq) * inv_cell_, 2 * kMaxCellCoordinate);
-    const Eigen::Vector3i lo =
-        (cell.array() - ring).max(FloorToInt(g.array() - reach).array()).max(0);
-    const Eigen::Vector3i hi =
-        (cell.array() + ring).min(FloorToInt(g.array() + reach).array()).min(dims_.array() - 1);
-    if ((lo.array() <= hi.array()).all()) ScanRing(query, cell, ring, lo, hi, best_sq, best);
-    if ((cell.array() - ring <= 0).all() && (cell.array() + ring >= dims_.array() - 1).all()) break;
+    if (lower_cells * cell_m_ >= radius_m) return radius_m;
+    // Only cells that intersect the box around that ball can hold such a point.
+    const float reach = std::min(radius_m * inv_cell_, 2 * kMaxCellCoordinate);
+    const Eigen::Vector3i lo = (cell.array() - ring).max(FloorToInt(g.array() - reach).array()).max(0);
+    const Eigen::Vector3i hi = (cell.array() + ring).min(FloorToInt(g.array() + reach).array()).min(dims_.array() - 1);
+    if ((lo.array() <= hi.array()).all()) ScanRing(query, cell, ring, lo, hi, best);
+    if ((cell.array() - ring <= 0).all() && (cell.array() + ring >= dims_.array() - 1).all())
+      return std::sqrt(best->sq) + margin_m;
   }
 }
 
@@ -216,18 +218,25 @@ bool PointGrid::Nearest(const Eigen::Vector3d& query, double max_distance_m, siz
 
 bool PointGrid::NearestFrom(const Eigen::Vector3d& query, double max_distance_m, size_t* index,
                             double* distance_sq_m2) const {
+  double clear_m = 0.0;
+  return NearestFrom(query, max_distance_m, 0.0, index, distance_sq_m2, &clear_m);
+}
+
+bool PointGrid::NearestFrom(const Eigen::Vector3d& query, double max_distance_m, double margin_m, size_t* index,
+                            double* distance_sq_m2, double* clear_m) const {
+  *clear_m = std::numeric_limits<double>::infinity();
   if (points_.empty()) return false;
   const Eigen::Vector3f q = query.cast<float>();
-  float best_sq = static_cast<float>(max_distance_m * max_distance_m);
-  uint32_t best = std::numeric_limits<uint32_t>::max();
+  Best best{static_cast<float>(max_distance_m * max_distance_m), kNone, std::numeric_limits<float>::infinity()};
   if (*index < points_.size()) {
     const float hint_sq = (points_[*index] - q).squaredNorm();
-    if (hint_sq < best_sq) best_sq = hint_sq, best = static_cast<uint32_t>(*index);
+    if (hint_sq < best.sq) best = Best{hint_sq, static_cast<uint32_t>(*index), best.second_sq};
   }
-  Search(q, &best_sq, &best);
-  if (best == std::numeric_limits<uint32_t>::max()) return false;
-  *index = best;
-  *distance_sq_m2 = best_sq;
+  const float covered_m = Search(q, static_cast<float>(margin_m), &best);
+  *clear_m = std::min(covered_m, std::sqrt(best.second_sq));
+  if (best.index == kNone) return false;
+  *index = best.index;
+  *distance_sq_m2 = best.sq;
   return true;
 }
 

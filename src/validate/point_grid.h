@@ -52,15 +52,33 @@ class PointGrid {
   bool NearestFrom(const Eigen::Vector3d& query, double max_distance_m, size_t* index, double* distance_sq_m2) const;
   static constexpr size_t kNoHint = static_cast<size_t>(-1);
 
+  /// NearestFrom that also tells how far its answer holds: *clear_m receives a radius about the query
+  /// within which the returned point is the only stored point (within which there is none, when none
+  /// is returned). The search examines the points up to `margin_m` beyond the nearest for it, so that a
+  /// caller whose query has moved by `moved` since knows, while its old match's distance stays below
+  /// clear - moved, that the old match is still the nearest (ICP's late iterations, validate/icp.cc).
+  bool NearestFrom(const Eigen::Vector3d& query, double max_distance_m, double margin_m, size_t* index,
+                   double* distance_sq_m2, double* clear_m) const;
+
   /// All stored points strictly within `radius_m`, sorted by increasing distance, as (index, distance^2).
   void Radius(const Eigen::Vector3d& query, double radius_m, std::vector<std::pair<size_t, float>>* out) const;
 
+  /// A search's running answer (internal): the nearest point so far (index kNone while none lies
+  /// within the bound sq) and the nearest of the other points examined.
+  struct Best {
+    float sq;
+    uint32_t index;
+    float second_sq;
+  };
+
  private:
-  /// The nearest point strictly closer than sqrt(*best_sq): when there is one, *best_sq and *best become it.
-  void Search(const Eigen::Vector3f& query, float* best_sq, uint32_t* best) const;
+  /// Examines the points as far as needed to find the nearest strictly within sqrt(best->sq) and every
+  /// point within `margin_m` beyond it; updates *best. Returns the radius about the query within
+  /// which every point was examined.
+  float Search(const Eigen::Vector3f& query, float margin_m, Best* best) const;
   /// Scans the cells of ring `ring` around `cell` that lie within the clamped box [lo, hi].
   void ScanRing(const Eigen::Vector3f& query, const Eigen::Vector3i& cell, int ring, const Eigen::Vector3i& lo,
-                const Eigen::Vector3i& hi, float* best_sq, uint32_t* best) const;
+                const Eigen::Vector3i& hi, Best* best) const;
   /// The lowest ring around `cell` (any cell, inside the grid or not) that can hold a point.
   int FirstRing(const Eigen::Vector3i& cell) const;
   void ComputeEmptyRings();

@@ -57,6 +57,29 @@ TEST(PointGrid, NearestMatchesBruteForceNearAndFarFromTheCloud) {
   EXPECT_GT(missed_count, 500);  // the far queries exercise the empty-ring skip
 }
 
+TEST(PointGrid, TheClearRadiusHoldsNoOtherPointAndReachesTheMargin) {
+  std::mt19937 rng(9);
+  const PointCloud cloud = SceneLike(rng);
+  const PointGrid grid(cloud);
+  const double margin_m = 0.002;
+  int found_count = 0;
+  for (const auto& q : testing::AddNoise(PointCloud(cloud.begin(), cloud.begin() + 500), rng, 0.01)) {
+    size_t index = PointGrid::kNoHint;
+    double d2 = 0, clear_m = 0;
+    const bool found = grid.NearestFrom(q, 0.01, margin_m, &index, &d2, &clear_m);
+    ASSERT_EQ(found, BruteNearestSq(cloud, q, 0.01) >= 0);
+    // Brute force: the nearest point other than the match (all points when none was found).
+    double other_m = std::numeric_limits<double>::infinity();
+    for (size_t i = 0; i < grid.size(); ++i)
+      if (!found || i != index) other_m = std::min(other_m, (grid.point(i) - q).norm());
+    EXPECT_LE(clear_m, other_m + 1e-6);
+    const double nearest_m = found ? std::sqrt(d2) : 0.01;
+    EXPECT_GE(clear_m, std::min(other_m, nearest_m + margin_m) - 1e-6);  // what the margin asks for
+    found_count += found;
+  }
+  EXPECT_GT(found_count, 200);
+}
+
 TEST(PointGrid, RadiusMatchesBruteForceSorted) {
   std::mt19937 rng(8);
   const PointCloud cloud = SceneLike(rng);
