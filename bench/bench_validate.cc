@@ -1,7 +1,8 @@
 // SegICP validator benchmark on real Kinect data (PCL's milk scene, model = milk.pcd, true pose =
 // identity): the acquisition (30 hypotheses, coarse stage on crop subsets, the best 2 refined) and one
 // tracking step, with our ICP and with pcl::IterativeClosestPoint on the same clouds, hypotheses and
-// scores, in one run. Prints the ratios.
+// scores, in one run. Prints the ratios. Also the scene index alone: nanoflann (KdTree) against our
+// cell grid (PointGrid), build and queries.
 #include <benchmark/benchmark.h>
 #include <omp.h>
 
@@ -14,6 +15,7 @@
 #include "../tests/validate/pcd_reader.h"
 #include "pcl_baseline.h"
 #include "validate/acquisition.h"
+#include "validate/kdtree.h"
 #include "validate/pose_filter.h"
 #include "validate/validate_options.h"
 
@@ -170,6 +172,75 @@ void BM_Tracking_Pcl(benchmark::State& state) {
     Report(state, T);
   }
 }
+
+/// The scene index on its own: nanoflann's kd-tree (KdTree) against our cell grid (PointGrid), on the
+/// queries an acquisition makes. "start": every hypothesis's crop subset at its start pose (gate 5 cm,
+/// no hint: the first ICP pass); "near": the refined crops at their final poses (gate 1 cm), without a
+/// hint (the alignment score) or with the match of the same point 1 mm away as the hint (ICP passes).
+struct IndexQueries {
+  PointCloud start, near, near_hint_from;
+};
+
+const IndexQueries& Queries() {
+  static const IndexQueries q = [] {
+    const Fixture& f = Data();
+    IndexQueries x;
+    const PointGrid grid(f.scene);
+    const Eigen::Vector3d offset = Eigen::Vector3d(1, -1, 1).normalized() * 0.001;
+    for (const auto& prior : f.priors) {
+      const AcquisitionResult r = AcquireAround(f.scene, grid, *f.source, prior, f.options.acquisition, f.options.alignment);
+      for (const auto& h : r.hypotheses)
+        for (const auto& p : EveryNth(r.crops[h.crop_index].points_model, f.options.acquisition.hypothesis_stride))
+          x.start.push_back(h.T_camera_model_init * p);
+      for (const auto& p : r.refined_crop.points_model) {
+        x.near.push_back(r.T_camera_model * p);
+        x.near_hint_from.push_back(x.near.back() + offset);
+      }
+    }
+    return x;
+  }();
+  return q;
+}
+
+template <class Index>
+void BM_SceneIndex_Build(benchmark::State& state) {
+  const Fixture& f = Data();
+  for (auto _ : state) benchmark::DoNotOptimize(Index(f.scene).size());
+  state.counters["points"] = static_cast<double>(f.scene.size());
+}
+
+/// Range 0: 0 = start queries, 1 = near without a hint, 2 = near with a hint. Sums the distances found
+/// (equal for both indexes, up to float rounding: the results agree).
+template <class Index>
+void BM_SceneIndex_Query(benchmark::State& state) {
+  const Fixture& f = Data();
+  const IndexQueries& q = Queries();
+  const Index index(f.scene);
+  const int kind = static_cast<int>(state.range(0));
+  const PointCloud& queries = kind == 0 ? q.start : q.near;
+  const double gate_m = kind == 0 ? 0.05 : 0.01;
+  std::vector<size_t> hints(queries.size(), Index::kNoHint);
+  double d2 = 0.0;
+  if (kind == 2)
+    for (size_t i = 0; i < queries.size(); ++i) index.Nearest(q.near_hint_from[i], gate_m, &hints[i], &d2);
+  double sum_m2 = 0.0;
+  for (auto _ : state) {
+    sum_m2 = 0.0;
+    for (size_t i = 0; i < queries.size(); ++i) {
+      size_t match = hints[i];
+      if (index.NearestFrom(queries[i], gate_m, &match, &d2)) sum_m2 += d2;
+    }
+    benchmark::DoNotOptimize(sum_m2);
+  }
+  state.SetItemsProcessed(static_cast<int64_t>(state.iterations() * queries.size()));
+  state.counters["queries"] = static_cast<double>(queries.size());
+  state.counters["sum_d2_mm2"] = sum_m2 * 1e6;
+}
+
+BENCHMARK_TEMPLATE(BM_SceneIndex_Build, KdTree)->Unit(benchmark::kMicrosecond);
+BENCHMARK_TEMPLATE(BM_SceneIndex_Build, PointGrid)->Unit(benchmark::kMicrosecond);
+BENCHMARK_TEMPLATE(BM_SceneIndex_Query, KdTree)->DenseRange(0, 2)->Unit(benchmark::kMicrosecond);
+BENCHMARK_TEMPLATE(BM_SceneIndex_Query, PointGrid)->DenseRange(0, 2)->Unit(benchmark::kMicrosecond);
 
 BENCHMARK(BM_Acquisition_Ours)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(16);
 BENCHMARK(BM_Acquisition_Pcl)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(8);  // all 8 starts
