@@ -1,7 +1,8 @@
 // SegICP validator benchmark on real Kinect data (PCL's milk scene, model = milk.pcd, true pose =
 // identity): the acquisition (30 hypotheses, coarse stage on crop subsets, the best 2 refined) and one
 // tracking step, with our ICP and with pcl::IterativeClosestPoint on the same clouds, hypotheses and
-// scores, in one run. Prints the ratios.
+// scores, in one run. Prints the ratios. Also the scene index alone: nanoflann (KdTree) against our
+// cell grid (PointGrid), build and queries.
 #include <benchmark/benchmark.h>
 #include <omp.h>
 
@@ -14,6 +15,7 @@
 #include "../tests/validate/pcd_reader.h"
 #include "pcl_baseline.h"
 #include "validate/acquisition.h"
+#include "validate/kdtree.h"
 #include "validate/pose_filter.h"
 #include "validate/validate_options.h"
 
@@ -70,8 +72,8 @@ void BM_Acquisition_Ours(benchmark::State& state) {
   const Fixture& f = Data();
   size_t k = 0;
   for (auto _ : state) {
-    const KdTree tree(f.scene);
-    const AcquisitionResult r = AcquireAround(f.scene, tree, *f.source, f.priors[k++ % f.priors.size()],
+    const PointGrid grid(f.scene);
+    const AcquisitionResult r = AcquireAround(f.scene, grid, *f.source, f.priors[k++ % f.priors.size()],
                                               f.options.acquisition, f.options.alignment);
     Report(state, r.T_camera_model);
   }
@@ -103,8 +105,8 @@ void BM_Acquisition_Pcl(benchmark::State& state) {
   const AcquisitionOptions& acq = f.options.acquisition;
   std::vector<AcquisitionResult> setups;
   for (const auto& prior : f.priors) {
-    const KdTree tree(f.scene);
-    setups.push_back(AcquireAround(f.scene, tree, *f.source, prior, acq, f.options.alignment));
+    const PointGrid grid(f.scene);
+    setups.push_back(AcquireAround(f.scene, grid, *f.source, prior, acq, f.options.alignment));
   }
   const bench::PclIcpSettings coarse{acq.icp.initial_correspondence_distance_m, acq.icp.max_iterations, 1e-8};
   const bench::PclIcpSettings refine{acq.refine_icp.max_correspondence_distance_m, acq.refine_icp.max_iterations, 1e-10};
@@ -112,7 +114,7 @@ void BM_Acquisition_Pcl(benchmark::State& state) {
   for (auto _ : state) {
     const AcquisitionResult& s = setups[k++ % setups.size()];
     const bench::PclScene pcl_scene(f.scene);
-    const KdTree tree(f.scene);
+    const PointGrid grid(f.scene);
     const int n = static_cast<int>(s.hypotheses.size());
     std::vector<Rigid3d> poses(n);
     std::vector<double> scores(n);
@@ -120,7 +122,7 @@ void BM_Acquisition_Pcl(benchmark::State& state) {
     for (int i = 0; i < n; ++i) {
       const PointCloud crop = EveryNth(s.crops[s.hypotheses[i].crop_index].points_model, acq.hypothesis_stride);
       poses[i] = pcl_scene.Align(crop, s.hypotheses[i].T_camera_model_init, coarse);
-      scores[i] = ScoreAlignment(crop, poses[i], tree, f.options.alignment).score;
+      scores[i] = ScoreAlignment(crop, poses[i], grid, f.options.alignment).score;
     }
     const std::vector<size_t> order = Ranked(scores);
     const int count = std::min(acq.refine_count, n);
@@ -130,7 +132,7 @@ void BM_Acquisition_Pcl(benchmark::State& state) {
     for (int j = 0; j < count; ++j) {
       const ModelCrop crop = f.source->Crop(poses[order[j]]);
       refined[j] = pcl_scene.Align(crop.points_model, poses[order[j]], refine);
-      refined_scores[j] = ScoreAlignment(crop.points_model, refined[j], tree, f.options.alignment).score;
+      refined_scores[j] = ScoreAlignment(crop.points_model, refined[j], grid, f.options.alignment).score;
     }
     Report(state, refined[Ranked(refined_scores).front()]);
   }
@@ -145,11 +147,11 @@ void BM_Tracking_Ours(benchmark::State& state) {
   for (auto _ : state) {
     filter.Predict(stamp += 33'333'333);
     const PointCloud pruned = CropToBox(f.scene, f.predicted, box);
-    const KdTree tree(pruned);
+    const PointGrid grid(pruned);
     const ModelCrop crop = f.source->Crop(f.predicted);
-    const IcpResult r = AlignPointToPoint(crop.points_model, tree, f.predicted, f.options.tracking.icp);
+    const IcpResult r = AlignPointToPoint(crop.points_model, grid, f.predicted, f.options.tracking.icp);
     state.counters["icp_its"] = r.iterations;
-    const double score = ScoreAlignment(crop.points_model, r.T_target_source, tree, f.options.alignment).score;
+    const double score = ScoreAlignment(crop.points_model, r.T_target_source, grid, f.options.alignment).score;
     benchmark::DoNotOptimize(filter.Update(r.T_target_source, score));
     Report(state, r.T_target_source);
   }
@@ -163,13 +165,82 @@ void BM_Tracking_Pcl(benchmark::State& state) {
   for (auto _ : state) {
     const PointCloud pruned = CropToBox(f.scene, f.predicted, box);
     const bench::PclScene pcl_scene(pruned);
-    const KdTree tree(pruned);
+    const PointGrid grid(pruned);
     const ModelCrop crop = f.source->Crop(f.predicted);
     const Rigid3d T = pcl_scene.Align(crop.points_model, f.predicted, settings);
-    benchmark::DoNotOptimize(ScoreAlignment(crop.points_model, T, tree, f.options.alignment).score);
+    benchmark::DoNotOptimize(ScoreAlignment(crop.points_model, T, grid, f.options.alignment).score);
     Report(state, T);
   }
 }
+
+/// The scene index on its own: nanoflann's kd-tree (KdTree) against our cell grid (PointGrid), on the
+/// queries an acquisition makes. "start": every hypothesis's crop subset at its start pose (gate 5 cm,
+/// no hint: the first ICP pass); "near": the refined crops at their final poses (gate 1 cm), without a
+/// hint (the alignment score) or with the match of the same point 1 mm away as the hint (ICP passes).
+struct IndexQueries {
+  PointCloud start, near, near_hint_from;
+};
+
+const IndexQueries& Queries() {
+  static const IndexQueries q = [] {
+    const Fixture& f = Data();
+    IndexQueries x;
+    const PointGrid grid(f.scene);
+    const Eigen::Vector3d offset = Eigen::Vector3d(1, -1, 1).normalized() * 0.001;
+    for (const auto& prior : f.priors) {
+      const AcquisitionResult r = AcquireAround(f.scene, grid, *f.source, prior, f.options.acquisition, f.options.alignment);
+      for (const auto& h : r.hypotheses)
+        for (const auto& p : EveryNth(r.crops[h.crop_index].points_model, f.options.acquisition.hypothesis_stride))
+          x.start.push_back(h.T_camera_model_init * p);
+      for (const auto& p : r.refined_crop.points_model) {
+        x.near.push_back(r.T_camera_model * p);
+        x.near_hint_from.push_back(x.near.back() + offset);
+      }
+    }
+    return x;
+  }();
+  return q;
+}
+
+template <class Index>
+void BM_SceneIndex_Build(benchmark::State& state) {
+  const Fixture& f = Data();
+  for (auto _ : state) benchmark::DoNotOptimize(Index(f.scene).size());
+  state.counters["points"] = static_cast<double>(f.scene.size());
+}
+
+/// Range 0: 0 = start queries, 1 = near without a hint, 2 = near with a hint. Sums the distances found
+/// (equal for both indexes, up to float rounding: the results agree).
+template <class Index>
+void BM_SceneIndex_Query(benchmark::State& state) {
+  const Fixture& f = Data();
+  const IndexQueries& q = Queries();
+  const Index index(f.scene);
+  const int kind = static_cast<int>(state.range(0));
+  const PointCloud& queries = kind == 0 ? q.start : q.near;
+  const double gate_m = kind == 0 ? 0.05 : 0.01;
+  std::vector<size_t> hints(queries.size(), Index::kNoHint);
+  double d2 = 0.0;
+  if (kind == 2)
+    for (size_t i = 0; i < queries.size(); ++i) index.Nearest(q.near_hint_from[i], gate_m, &hints[i], &d2);
+  double sum_m2 = 0.0;
+  for (auto _ : state) {
+    sum_m2 = 0.0;
+    for (size_t i = 0; i < queries.size(); ++i) {
+      size_t match = hints[i];
+      if (index.NearestFrom(queries[i], gate_m, &match, &d2)) sum_m2 += d2;
+    }
+    benchmark::DoNotOptimize(sum_m2);
+  }
+  state.SetItemsProcessed(static_cast<int64_t>(state.iterations() * queries.size()));
+  state.counters["queries"] = static_cast<double>(queries.size());
+  state.counters["sum_d2_mm2"] = sum_m2 * 1e6;
+}
+
+BENCHMARK_TEMPLATE(BM_SceneIndex_Build, KdTree)->Unit(benchmark::kMicrosecond);
+BENCHMARK_TEMPLATE(BM_SceneIndex_Build, PointGrid)->Unit(benchmark::kMicrosecond);
+BENCHMARK_TEMPLATE(BM_SceneIndex_Query, KdTree)->DenseRange(0, 2)->Unit(benchmark::kMicrosecond);
+BENCHMARK_TEMPLATE(BM_SceneIndex_Query, PointGrid)->DenseRange(0, 2)->Unit(benchmark::kMicrosecond);
 
 BENCHMARK(BM_Acquisition_Ours)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(16);
 BENCHMARK(BM_Acquisition_Pcl)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(8);  // all 8 starts

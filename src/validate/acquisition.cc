@@ -45,14 +45,14 @@ bool RanksBefore(double score_a, double rmse_a, double score_b, double rmse_b, d
 /// Coarse stage: every hypothesis registered on every hypothesis_stride-th crop point and scored on the
 /// same points, in parallel (the paper runs the hypotheses "in parallel"). Returns the hypotheses'
 /// indices, best first.
-std::vector<int> RegisterCoarse(const KdTree& scene_tree, const AcquisitionOptions& options,
+std::vector<int> RegisterCoarse(const PointGrid& scene_grid, const AcquisitionOptions& options,
                                 const AlignmentOptions& alignment, AcquisitionResult* result) {
   auto& hyps = result->hypotheses;
 #pragma omp parallel for schedule(dynamic, 1)
   for (int i = 0; i < static_cast<int>(hyps.size()); ++i) {
     const PointCloud crop = EveryNth(result->crops[hyps[i].crop_index].points_model, options.hypothesis_stride);
-    hyps[i].icp = AlignPointToPoint(crop, scene_tree, hyps[i].T_camera_model_init, options.icp);
-    hyps[i].score = ScoreAlignment(crop, hyps[i].icp.T_target_source, scene_tree, alignment);
+    hyps[i].icp = AlignPointToPoint(crop, scene_grid, hyps[i].T_camera_model_init, options.icp);
+    hyps[i].score = ScoreAlignment(crop, hyps[i].icp.T_target_source, scene_grid, alignment);
   }
   double top = -1.0;
   for (const auto& h : hyps) top = std::max(top, h.score.score);
@@ -75,7 +75,7 @@ struct Refined {
 /// Fine stage: the best refine_count hypotheses refined in parallel; the winner is the best refined
 /// one by the full a(M, S) (ties by inlier RMSE), so a hypothesis that the subsample ranked second can
 /// still win.
-void RefineBest(const KdTree& scene_tree, const CropSource& model, const AcquisitionOptions& options,
+void RefineBest(const PointGrid& scene_grid, const CropSource& model, const AcquisitionOptions& options,
                 const AlignmentOptions& alignment, const std::vector<int>& order, AcquisitionResult* result) {
   const int count = std::min<int>(options.refine_count, static_cast<int>(order.size()));
   std::vector<Refined> refined(count);
@@ -83,9 +83,9 @@ void RefineBest(const KdTree& scene_tree, const CropSource& model, const Acquisi
   for (int j = 0; j < count; ++j) {
     const Rigid3d& T_coarse = result->hypotheses[order[j]].icp.T_target_source;
     refined[j].crop = model.Crop(T_coarse);
-    refined[j].icp = AlignPointToPoint(refined[j].crop.points_model, scene_tree, T_coarse, options.refine_icp);
+    refined[j].icp = AlignPointToPoint(refined[j].crop.points_model, scene_grid, T_coarse, options.refine_icp);
     refined[j].score =
-        ScoreAlignment(refined[j].crop.points_model, refined[j].icp.T_target_source, scene_tree, alignment).score;
+        ScoreAlignment(refined[j].crop.points_model, refined[j].icp.T_target_source, scene_grid, alignment).score;
   }
   double top = -1.0;
   for (const auto& r : refined) top = std::max(top, r.score);
@@ -102,14 +102,14 @@ void RefineBest(const KdTree& scene_tree, const CropSource& model, const Acquisi
 }
 
 /// Coarse-to-fine hypothesis pruning (docs/validation.md "Acquisition"), then the epsilon test.
-void RunHypotheses(const KdTree& scene_tree, const CropSource& model, const AcquisitionOptions& options,
+void RunHypotheses(const PointGrid& scene_grid, const CropSource& model, const AcquisitionOptions& options,
                    const AlignmentOptions& alignment, AcquisitionResult* result) {
   if (result->hypotheses.empty()) {
     result->reason = "no hypotheses";
     return;
   }
-  const std::vector<int> order = RegisterCoarse(scene_tree, options, alignment, result);
-  RefineBest(scene_tree, model, options, alignment, order, result);
+  const std::vector<int> order = RegisterCoarse(scene_grid, options, alignment, result);
+  RefineBest(scene_grid, model, options, alignment, order, result);
   result->acquired = result->score >= options.epsilon;
   if (!result->acquired)
     result->reason = Str("best alignment score ", result->score, " below epsilon ", options.epsilon);
@@ -143,7 +143,7 @@ std::vector<ModelCrop> MakeViewSphereCrops(const CropSource& model, const Acquis
   return crops;
 }
 
-AcquisitionResult Acquire(const PointCloud& scene, const KdTree& scene_tree, const CropSource& model,
+AcquisitionResult Acquire(const PointCloud& scene, const PointGrid& scene_grid, const CropSource& model,
                           const std::vector<ModelCrop>& crops, const AcquisitionOptions& options,
                           const AlignmentOptions& alignment) {
   AcquisitionResult result;
@@ -163,11 +163,11 @@ AcquisitionResult Acquire(const PointCloud& scene, const KdTree& scene_tree, con
       result.hypotheses.push_back({PlaceAtMedian(R, crops[c], median), {}, {}, c});
     }
   }
-  RunHypotheses(scene_tree, model, options, alignment, &result);
+  RunHypotheses(scene_grid, model, options, alignment, &result);
   return result;
 }
 
-AcquisitionResult AcquireAround(const PointCloud& scene, const KdTree& scene_tree, const CropSource& model,
+AcquisitionResult AcquireAround(const PointCloud& scene, const PointGrid& scene_grid, const CropSource& model,
                                 const Rigid3d& T_camera_model_prior, const AcquisitionOptions& options,
                                 const AlignmentOptions& alignment) {
   AcquisitionResult result;
@@ -193,7 +193,7 @@ AcquisitionResult AcquireAround(const PointCloud& scene, const KdTree& scene_tre
   for (int i = 0; i < n; ++i)
     if (!result.crops[i].points_model.empty())
       result.hypotheses.push_back({PlaceAtMedian(starts[i].rotation_matrix(), result.crops[i], median), {}, {}, i});
-  RunHypotheses(scene_tree, model, options, alignment, &result);
+  RunHypotheses(scene_grid, model, options, alignment, &result);
   return result;
 }
 

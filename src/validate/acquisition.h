@@ -9,7 +9,7 @@
 
 #include "validate/alignment_score.h"
 #include "validate/icp.h"
-#include "validate/kdtree.h"
+#include "validate/point_grid.h"
 #include "validate/model_crop.h"
 
 namespace mocap {
@@ -89,15 +89,15 @@ std::vector<ModelCrop> MakeViewSphereCrops(const CropSource& model, const Acquis
 
 /// Acquisition from the view-sphere crops: each crop is turned so that its virtual camera looks along
 /// the ray to the scene median, then placed with its median on the scene median. `scene` is the
-/// object's scene cloud (camera frame) that `scene_tree` indexes.
-AcquisitionResult Acquire(const PointCloud& scene, const KdTree& scene_tree, const CropSource& model,
+/// object's scene cloud (camera frame) that `scene_grid` indexes.
+AcquisitionResult Acquire(const PointCloud& scene, const PointGrid& scene_grid, const CropSource& model,
                           const std::vector<ModelCrop>& crops, const AcquisitionOptions& options,
                           const AlignmentOptions& alignment);
 
 /// Acquisition with an orientation prior (a label, a filter prediction): num_crops hypotheses, the
 /// prior's rotation and rotations up to prior_spread_deg about it, each with the crop visible from
 /// the camera at that pose, placed at the scene median as above.
-AcquisitionResult AcquireAround(const PointCloud& scene, const KdTree& scene_tree, const CropSource& model,
+AcquisitionResult AcquireAround(const PointCloud& scene, const PointGrid& scene_grid, const CropSource& model,
                                 const Rigid3d& T_camera_model_prior, const AcquisitionOptions& options,
                                 const AlignmentOptions& alignment);
 

@@ -10,7 +10,7 @@ void AlignmentOptions::check() const {
   if (!(tau_m > 0)) throw InputError("AlignmentOptions", "tau_m must be positive");
 }
 
-AlignmentScore ScoreAlignment(const PointCloud& crop_model, const Rigid3d& T_scene_model, const KdTree& scene,
+AlignmentScore ScoreAlignment(const PointCloud& crop_model, const Rigid3d& T_scene_model, const PointGrid& scene,
                               const AlignmentOptions& options) {
   AlignmentScore out;
   out.model_points = static_cast<int>(crop_model.size());

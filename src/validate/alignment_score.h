@@ -9,7 +9,7 @@
 // in S within tau that has not been already mapped to another point in M_i, and then is added to c."
 // Model points are visited in their stored order; a scene point is claimed at most once.
 #include "core/rigid3.h"
-#include "validate/kdtree.h"
+#include "validate/point_grid.h"
 #include "validate/point_cloud.h"
 
 namespace mocap {
@@ -27,8 +27,8 @@ struct AlignmentScore {
   int second_choice = 0;  ///< matches that fell back past a claimed nearest point (diagnostic)
 };
 
-/// Scores the crop `crop_model` (model frame) placed at `T_scene_model` against the scene tree.
-AlignmentScore ScoreAlignment(const PointCloud& crop_model, const Rigid3d& T_scene_model, const KdTree& scene,
+/// Scores the crop `crop_model` (model frame) placed at `T_scene_model` against the scene grid.
+AlignmentScore ScoreAlignment(const PointCloud& crop_model, const Rigid3d& T_scene_model, const PointGrid& scene,
                               const AlignmentOptions& options);
 
 }  // namespace mocap

@@ -2,11 +2,13 @@
 // Point-to-point ICP (Besl & McKay) with the closed-form SVD step of Umeyama/Kabsch per iteration, the
 // registration the paper uses for both acquisition and tracking ("We use a point-to-point ICP").
 // One pass per iteration: nearest neighbours are accumulated into first and second moments, no
-// correspondence list is stored.
+// correspondence list is stored. Each source point remembers its last search (its match and how far
+// that match was proven the only scene point around it), so that a point that has moved less than the
+// proof covers keeps its match without a search: exact, and most points of a converging registration.
 #include <string_view>
 
 #include "core/rigid3.h"
-#include "validate/kdtree.h"
+#include "validate/point_grid.h"
 #include "validate/point_cloud.h"
 
 namespace mocap {
@@ -56,7 +58,7 @@ struct IcpResult {
 
 /// Registers `source` (points in the source frame) to the scene indexed by `target`, starting from
 /// `T_target_source_init`. Precondition: options.check() passed.
-IcpResult AlignPointToPoint(const PointCloud& source, const KdTree& target, const Rigid3d& T_target_source_init,
+IcpResult AlignPointToPoint(const PointCloud& source, const PointGrid& target, const Rigid3d& T_target_source_init,
                             const IcpOptions& options);
 
 /// The rigid transform minimising sum |R s_i + t - t_i|^2 (Umeyama 1991 without scale), from paired

@@ -25,9 +25,9 @@ void ScoreEstimate(const Rigid3d& label, const ValidateOptions& options, LabelCh
 }
 
 /// Label score, errors, success and verdict once an estimate (or none) is known.
-void Finish(const KdTree& tree, const Rigid3d& label, const CropSource& model, const ValidateOptions& options,
+void Finish(const PointGrid& grid, const Rigid3d& label, const CropSource& model, const ValidateOptions& options,
             LabelCheck* check) {
-  check->label_score = ScoreAlignment(model.Crop(label).points_model, label, tree, options.alignment).score;
+  check->label_score = ScoreAlignment(model.Crop(label).points_model, label, grid, options.alignment).score;
   if (check->estimated) ScoreEstimate(label, options, check);
   DecideVerdict(options.verdict, check);
 }
@@ -155,11 +155,11 @@ LabelCheck CheckLabel(const PointCloud& scene_camera, const Rigid3d& T_camera_ob
     return BadInputCheck(VerdictReason::kTooFewPoints,
                     Str("too few scene points (", scene.size(), " < ", options.min_scene_points, ")"),
                     static_cast<int>(scene.size()));
-  const KdTree tree(scene);
+  const PointGrid grid(scene);
   const AcquisitionResult r =
       options.check_seed == AcquisitionSeed::kLabel
-          ? AcquireAround(scene, tree, model, T_camera_object_label, options.acquisition, options.alignment)
-          : Acquire(scene, tree, model, view_crops, options.acquisition, options.alignment);
+          ? AcquireAround(scene, grid, model, T_camera_object_label, options.acquisition, options.alignment)
+          : Acquire(scene, grid, model, view_crops, options.acquisition, options.alignment);
   LabelCheck check;
   check.scene_points = static_cast<int>(scene.size());
   if (r.best >= 0) {
@@ -168,7 +168,7 @@ LabelCheck CheckLabel(const PointCloud& scene_camera, const Rigid3d& T_camera_ob
     check.segicp_score = r.score;
     check.icp = r.refine;
   }
-  Finish(tree, T_camera_object_label, model, options, &check);
+  Finish(grid, T_camera_object_label, model, options, &check);
   return check;
 }
 
@@ -179,7 +179,7 @@ LabelCheck CheckLabelWithTrack(const PointCloud& scene_camera, const Rigid3d& T_
     return BadInputCheck(VerdictReason::kTooFewPoints,
                     Str("too few scene points (", scene.size(), " < ", options.min_scene_points, ")"),
                     static_cast<int>(scene.size()));
-  const KdTree tree(scene);
+  const PointGrid grid(scene);
   LabelCheck check;
   check.scene_points = static_cast<int>(scene.size());
   if (track.measured) {
@@ -188,7 +188,7 @@ LabelCheck CheckLabelWithTrack(const PointCloud& scene_camera, const Rigid3d& T_
     check.segicp_score = track.score;
     check.icp = track.icp;
   }
-  Finish(tree, T_camera_object_label, model, options, &check);
+  Finish(grid, T_camera_object_label, model, options, &check);
   return check;
 }
 

@@ -47,12 +47,12 @@ void ObjectTracker::RunTracking(const PointCloud& scene, const Rigid3d& T_world_
     step->note += Str("too few points near the predicted pose (", step->scene_points, "); back to acquisition");
     return;
   }
-  const KdTree tree(pruned);
+  const PointGrid grid(pruned);
   const ModelCrop crop = model_.Crop(predicted);
-  step->icp = AlignPointToPoint(crop.points_model, tree, predicted, options_.tracking.icp);
+  step->icp = AlignPointToPoint(crop.points_model, grid, predicted, options_.tracking.icp);
   step->measured = true;
   step->T_camera_object_measured = step->icp.T_target_source;
-  step->score = ScoreAlignment(crop.points_model, step->T_camera_object_measured, tree, options_.alignment).score;
+  step->score = ScoreAlignment(crop.points_model, step->T_camera_object_measured, grid, options_.alignment).score;
   if (step->score < options_.tracking.theta) {
     mode_ = TrackMode::kAcquisition;
     step->note += Str("score ", step->score, " below theta; propagating, back to acquisition");
@@ -65,13 +65,13 @@ void ObjectTracker::RunTracking(const PointCloud& scene, const Rigid3d& T_world_
 
 void ObjectTracker::RunAcquisition(const PointCloud& scene, const Rigid3d& T_world_camera, int64_t stamp_ns,
                                    TrackStep* step) {
-  const KdTree tree(scene);
+  const PointGrid grid(scene);
   // While the filter still holds a pose, its prediction seeds the hypotheses; otherwise the view sphere.
   const AcquisitionResult r =
       filter_.initialized()
-          ? AcquireAround(scene, tree, model_, T_world_camera.inverse() * filter_.pose(), options_.acquisition,
+          ? AcquireAround(scene, grid, model_, T_world_camera.inverse() * filter_.pose(), options_.acquisition,
                           options_.alignment)
-          : Acquire(scene, tree, model_, view_crops_, options_.acquisition, options_.alignment);
+          : Acquire(scene, grid, model_, view_crops_, options_.acquisition, options_.alignment);
   if (r.best < 0) {
     step->note += r.reason;
     return;

@@ -9,7 +9,7 @@ namespace {
 
 TEST(AlignmentScore, CountsOnlyPointsWithinTau) {
   const PointCloud scene = {{0, 0, 1}, {0.1, 0, 1}, {0.2, 0, 1}};
-  const KdTree tree(scene);
+  const PointGrid tree(scene);
   // Model points 5 mm, 9 mm and 15 mm from their scene points: two of three within tau = 1 cm.
   const PointCloud crop = {{0.005, 0, 1}, {0.1, 0.009, 1}, {0.2, 0, 1.015}};
   const AlignmentScore s = ScoreAlignment(crop, Rigid3d::Identity(), tree, AlignmentOptions{});
@@ -21,7 +21,7 @@ TEST(AlignmentScore, CountsOnlyPointsWithinTau) {
 TEST(AlignmentScore, EachScenePointIsClaimedOnce) {
   // Three model points crowd one scene point: only one may claim it (a plain nearest-neighbour inlier
   // ratio such as ICP fitness would say 1.0 here).
-  const KdTree tree(PointCloud{{0, 0, 1}});
+  const PointGrid tree(PointCloud{{0, 0, 1}});
   const PointCloud crop = {{0, 0, 1.001}, {0, 0, 1.002}, {0.001, 0, 1}};
   const AlignmentScore s = ScoreAlignment(crop, Rigid3d::Identity(), tree, AlignmentOptions{});
   EXPECT_EQ(s.matched, 1);
@@ -31,7 +31,7 @@ TEST(AlignmentScore, EachScenePointIsClaimedOnce) {
 TEST(AlignmentScore, FallsBackToTheClosestFreeScenePointWithinTau) {
   // Scene points A (x = 0) and B (x = 8 mm). Model point 1 at 1 mm takes A; model point 2 at 2 mm also
   // has A nearest, so it takes B (6 mm away, within tau). Model point 3 finds both taken.
-  const KdTree tree(PointCloud{{0, 0, 1}, {0.008, 0, 1}});
+  const PointGrid tree(PointCloud{{0, 0, 1}, {0.008, 0, 1}});
   const PointCloud crop = {{0.001, 0, 1}, {0.002, 0, 1}, {0.0, 0.001, 1}};
   const AlignmentScore s = ScoreAlignment(crop, Rigid3d::Identity(), tree, AlignmentOptions{});
   EXPECT_EQ(s.matched, 2);
@@ -44,7 +44,7 @@ TEST(AlignmentScore, FallsBackToTheClosestFreeScenePointWithinTau) {
 TEST(AlignmentScore, AppliesThePoseAndIsOneForAnExactCrop) {
   const PointCloud model = testing::BoxSurface({0.1, 0.05, 0.2}, 0.005);
   const Rigid3d T_scene_model = Rigid3d::FromRvec({0.2, 0.1, -0.3}, {0.05, 0.0, 0.8});
-  const KdTree tree(Transform(T_scene_model, model));
+  const PointGrid tree(Transform(T_scene_model, model));
   EXPECT_DOUBLE_EQ(ScoreAlignment(model, T_scene_model, tree, AlignmentOptions{}).score, 1.0);
   // Turned by 30 deg about the body diagonal, points beyond about 2 cm from the centre move more than
   // tau out of their face planes. (A pure shift would let whole faces slide within their planes.)
@@ -53,9 +53,9 @@ TEST(AlignmentScore, AppliesThePoseAndIsOneForAnExactCrop) {
 }
 
 TEST(AlignmentScore, EmptyInputsScoreZero) {
-  const KdTree empty(PointCloud{});
+  const PointGrid empty(PointCloud{});
   EXPECT_EQ(ScoreAlignment({{0, 0, 1}}, Rigid3d::Identity(), empty, AlignmentOptions{}).score, 0.0);
-  const KdTree tree(PointCloud{{0, 0, 1}});
+  const PointGrid tree(PointCloud{{0, 0, 1}});
   EXPECT_EQ(ScoreAlignment({}, Rigid3d::Identity(), tree, AlignmentOptions{}).score, 0.0);
   EXPECT_THROW(AlignmentOptions{.tau_m = 0}.check(), InputError);
 }

@@ -1,4 +1,5 @@
 #include "validate/icp.h"
+#include "validate/kdtree.h"
 
 #include <gtest/gtest.h>
 
@@ -26,7 +27,7 @@ TEST(Icp, ConvergesFromKnownOffsetsOnANoiselessBox) {
   const PointCloud model = BoxSurface({0.16, 0.06, 0.21}, 0.004);
   const Rigid3d T_scene_model = Rigid3d::FromRvec({0.3, -0.2, 0.1}, {0.1, -0.05, 0.9});
   // The scene is sampled more densely than the model, as a camera sees a surface the model samples.
-  const KdTree scene(Transform(T_scene_model, BoxSurface({0.16, 0.06, 0.21}, 0.0015)));
+  const PointGrid scene(Transform(T_scene_model, BoxSurface({0.16, 0.06, 0.21}, 0.0015)));
   for (int trial = 0; trial < 10; ++trial) {
     const Rigid3d start = T_scene_model * RandomPerturbation(rng, 0.02, 10.0);
     const IcpResult r = AlignPointToPoint(model, scene, start, IcpOptions{});
@@ -42,7 +43,7 @@ TEST(Icp, CoarseToFineMatchesFullAccuracyWithNoise) {
   std::mt19937 rng(3);
   const PointCloud model = BoxSurface({0.16, 0.06, 0.21}, 0.004);
   const Rigid3d T_scene_model = Rigid3d::FromRvec({0.0, 0.4, 0.0}, {0.0, 0.0, 1.0});
-  const KdTree scene(testing::AddNoise(Transform(T_scene_model, model), rng, 0.0015));
+  const PointGrid scene(testing::AddNoise(Transform(T_scene_model, model), rng, 0.0015));
   IcpOptions coarse;
   coarse.source_stride = 4;
   const Rigid3d start = T_scene_model * RandomPerturbation(rng, 0.015, 8.0);
@@ -84,7 +85,7 @@ TEST(Icp, AccelerationReachesTheSameOptimumInFewerIterations) {
   const PointCloud model = visible(BoxSurface({0.3, 0.06, 0.08}, 0.004));
   const Rigid3d T_scene_model = Rigid3d::FromRvec({0.2, 0.1, -0.3}, {0.05, 0.0, 0.8});
   // The scene denser than the model, as in ConvergesFromKnownOffsetsOnANoiselessBox.
-  const KdTree scene(testing::AddNoise(Transform(T_scene_model, visible(BoxSurface({0.3, 0.06, 0.08}, 0.0015))), rng, 0.0005));
+  const PointGrid scene(testing::AddNoise(Transform(T_scene_model, visible(BoxSurface({0.3, 0.06, 0.08}, 0.0015))), rng, 0.0005));
   IcpOptions plain;
   plain.initial_correspondence_distance_m = plain.max_correspondence_distance_m = 0.02;
   plain.max_iterations = 300;
@@ -105,13 +106,13 @@ TEST(Icp, AccelerationReachesTheSameOptimumInFewerIterations) {
 
 TEST(Icp, ReportsEmptyInputAndTooFewCorrespondences) {
   const PointCloud model = BoxSurface({0.1, 0.1, 0.1}, 0.01);
-  const KdTree empty_scene(PointCloud{});
+  const PointGrid empty_scene(PointCloud{});
   IcpResult r = AlignPointToPoint(model, empty_scene, Rigid3d::Identity(), IcpOptions{});
   EXPECT_EQ(r.reason, IcpStopReason::kEmptyInput);
   EXPECT_FALSE(r.converged);
 
   // A scene a metre away: nothing inside the gate.
-  const KdTree far_scene(Transform(Rigid3d::FromRvec({0, 0, 0}, {1, 0, 0}), model));
+  const PointGrid far_scene(Transform(Rigid3d::FromRvec({0, 0, 0}, {1, 0, 0}), model));
   r = AlignPointToPoint(model, far_scene, Rigid3d::Identity(), IcpOptions{});
   EXPECT_EQ(r.reason, IcpStopReason::kTooFewCorrespondences);
   EXPECT_EQ(r.iterations, 0);

@@ -50,14 +50,14 @@ Rigid3d PerturbedStart(std::mt19937& rng, const Eigen::Vector3d& center) {
 TEST(MilkRealData, ModelIsAnExactCropOfTheScene) {
   const MilkScene& m = Milk();
   EXPECT_EQ(m.model.size(), 13704u);
-  const KdTree full_scene(testing::FinitePoints(testing::ReadPcd(kPclDir + "milk_cartoon_all_small_clorox.pcd").points));
+  const PointGrid full_scene(testing::FinitePoints(testing::ReadPcd(kPclDir + "milk_cartoon_all_small_clorox.pcd").points));
   EXPECT_DOUBLE_EQ(ScoreAlignment(m.model, Rigid3d::Identity(), full_scene, AlignmentOptions{.tau_m = 1e-6}).score, 1.0);
 }
 
 TEST(MilkRealData, IcpReturnsToIdentityFrom20PerturbedStarts) {
   const MilkScene& m = Milk();
   const PointCloud model = VoxelDownsample(m.model, 0.005);
-  const KdTree tree(m.scene);
+  const PointGrid tree(m.scene);
   const Eigen::Vector3d center = Centroid(m.model);
   std::mt19937 rng(7);
   double worst_mm = 0, worst_deg = 0;
@@ -81,7 +81,7 @@ TEST(MilkRealData, IcpReturnsToIdentityFrom20PerturbedStarts) {
 TEST(MilkRealData, AcquisitionReturnsToIdentityFrom20PerturbedStarts) {
   const MilkScene& m = Milk();
   const SurfaceCropSource source(m.model, CropOptions{});
-  const KdTree tree(m.scene);
+  const PointGrid tree(m.scene);
   const Eigen::Vector3d center = Centroid(m.model);
   std::mt19937 rng(11);
   double worst_mm = 0, worst_deg = 0, worst_score = 1;

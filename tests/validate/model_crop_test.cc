@@ -98,7 +98,7 @@ TEST(Acquisition, ViewSphereFindsABoxPoseWithoutAPrior) {
   const Rigid3d T_camera_model = Rigid3d::FromRvec({0.9, 0.3, -0.2}, {0.05, -0.02, 0.9});
   const SurfaceCropSource dense = SurfaceCropSource::FromMesh(mesh, CropOptions{.pixel_m = 0.002});
   const PointCloud scene = Transform(T_camera_model, dense.Crop(T_camera_model).points_model);
-  const KdTree tree(scene);
+  const PointGrid tree(scene);
   const AcquisitionOptions options;
   const std::vector<ModelCrop> crops = MakeViewSphereCrops(source, options);
   ASSERT_EQ(crops.size(), 30u);

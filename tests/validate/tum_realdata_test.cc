@@ -70,7 +70,7 @@ PairErrors RunPairs(const PinholeCamera& camera) {
   PointCloud previous = VoxelDownsample(ReadDepthCloud(stamps[0] + ".png", camera), 0.005);
   for (size_t k = 1; k < stamps.size(); ++k) {
     const PointCloud current = VoxelDownsample(ReadDepthCloud(stamps[k] + ".png", camera), 0.005);
-    const KdTree target(previous);
+    const PointGrid target(previous);
     const IcpResult r = AlignPointToPoint(VoxelDownsample(current, 0.02), target, Rigid3d::Identity(), options);
     const Rigid3d truth = PoseAt(gt, std::stod(stamps[k - 1])).inverse() * PoseAt(gt, std::stod(stamps[k]));
     e.icp_mm.push_back(1e3 * TranslationDistanceM(r.T_target_source, truth));
