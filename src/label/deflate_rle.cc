@@ -2,8 +2,10 @@
 
 #include <libdeflate.h>
 
+#include <algorithm>
 #include <array>
-#include <cstring>
+
+#include "label/byte_runs.h"
 
 namespace mocap {
 namespace {
@@ -69,19 +71,6 @@ class BitWriter {
   int count_ = 0;
 };
 
-/// How many bytes from data[i] on equal `byte` (at most kMaxMatch), eight at a time where they can.
-size_t RunLength(const uint8_t* data, size_t i, size_t size, uint8_t byte) {
-  const size_t limit = std::min(kMaxMatch, size - i);
-  const uint64_t pattern = 0x0101010101010101ull * byte;
-  size_t n = 0;
-  for (uint64_t word = 0; n + 8 <= limit; n += 8) {
-    std::memcpy(&word, data + i + n, 8);
-    if (word != pattern) break;
-  }
-  while (n < limit && data[i + n] == byte) ++n;
-  return n;
-}
-
 }  // namespace
 
 void AppendZlibRle(const uint8_t* data, size_t size, std::vector<uint8_t>& out) {
@@ -90,7 +79,7 @@ void AppendZlibRle(const uint8_t* data, size_t size, std::vector<uint8_t>& out) 
   BitWriter bits(out);
   bits.Put({0b011, 3});  // final block, fixed Huffman codes
   for (size_t i = 0; i < size;) {
-    const size_t run = i > 0 ? RunLength(data, i, size, data[i - 1]) : 0;
+    const size_t run = i > 0 ? EqualBytes(data + i, data + i + std::min(kMaxMatch, size - i), data[i - 1]) : 0;
     if (run >= 3) {  // a copy of the previous byte, `run` times
       bits.Put(tables.match[run]);
       i += run;

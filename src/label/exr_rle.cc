@@ -5,6 +5,7 @@
 #include <string>
 
 #include "core/check.h"
+#include "label/byte_runs.h"
 
 namespace mocap {
 namespace {
@@ -71,19 +72,6 @@ void SplitAndPredict(const uint8_t* __restrict line, size_t size, std::vector<ui
   for (size_t i = 1; i < half; ++i) even[i] = static_cast<uint8_t>(line[2 * i] - line[2 * i - 2] + 128);
   odd[0] = static_cast<uint8_t>(line[1] - line[2 * half - 2] + 128);  // follows the last even byte
   for (size_t i = 1; i < half; ++i) odd[i] = static_cast<uint8_t>(line[2 * i + 1] - line[2 * i - 1] + 128);
-}
-
-/// How many bytes from `at` on (before `end`) equal `byte`, eight at a time where they can.
-size_t EqualBytes(const uint8_t* at, const uint8_t* end, uint8_t byte) {
-  const uint64_t pattern = 0x0101010101010101ull * byte;
-  const auto limit = static_cast<size_t>(end - at);
-  size_t n = 0;
-  for (uint64_t word = 0; n + 8 <= limit; n += 8) {
-    std::memcpy(&word, at + n, 8);
-    if (word != pattern) break;
-  }
-  while (n < limit && at[n] == byte) ++n;
-  return n;
 }
 
 /// A scanline of zeros (no surface), as one chunk payload: the same for every such line of the image.

@@ -35,8 +35,9 @@ libdeflate_decompressor& Decompressor() {
 struct Chunks {
   uint32_t width = 0, height = 0;
   bool gray16 = false;
-  std::span<const uint8_t> idat;  // the one IDAT's data, or `joined` when there were several
-  std::vector<uint8_t> joined;
+  std::span<const uint8_t> first_idat;  // the first IDAT chunk's data, in the file's bytes
+  std::vector<uint8_t> joined;          // all IDAT data joined, when there are several chunks
+  std::span<const uint8_t> image_data() const { return joined.empty() ? first_idat : std::span<const uint8_t>(joined); }
 };
 
 /// Walks the chunks (PNG spec 5.3), checking every CRC; stops at IEND.
@@ -63,16 +64,15 @@ Chunks ReadChunks(std::span<const uint8_t> png, const std::string& where) {
       chunks.gray16 = data[8] == 16 && data[9] == 0 && data[10] == 0 && data[11] == 0 && data[12] == 0;
       if (!chunks.gray16) return chunks;
     } else if (std::memcmp(type, "IDAT", 4) == 0) {
-      if (++idat_count == 2) chunks.joined.assign(chunks.idat.begin(), chunks.idat.end());
+      if (++idat_count == 1) chunks.first_idat = data;
+      if (idat_count == 2) chunks.joined.assign(chunks.first_idat.begin(), chunks.first_idat.end());
       if (idat_count >= 2) chunks.joined.insert(chunks.joined.end(), data.begin(), data.end());
-      else chunks.idat = data;
     } else if (std::memcmp(type, "IEND", 4) == 0) {
       break;
     }
     at += 12 + length;
   }
   if (idat_count == 0) throw InputError(where, "PNG has no image data (IDAT chunk)");
-  if (idat_count >= 2) chunks.idat = chunks.joined;
   return chunks;
 }
 
@@ -151,8 +151,9 @@ std::optional<Image<float>> DecodeGray16Png(std::span<const uint8_t> png, double
   thread_local std::vector<uint8_t> scanlines;  // reused: no fresh pages to fault in per frame
   scanlines.resize(total);
   size_t inflated = 0;
-  const libdeflate_result result = libdeflate_zlib_decompress(&Decompressor(), chunks.idat.data(), chunks.idat.size(),
-                                                              scanlines.data(), scanlines.size(), &inflated);
+  const std::span<const uint8_t> data = chunks.image_data();
+  const libdeflate_result result =
+      libdeflate_zlib_decompress(&Decompressor(), data.data(), data.size(), scanlines.data(), scanlines.size(), &inflated);
   if (result != LIBDEFLATE_SUCCESS || inflated != total)
     throw InputError(where, Str("PNG image data is corrupt: ",
                                 result == LIBDEFLATE_INSUFFICIENT_SPACE ? "more data than its size"
