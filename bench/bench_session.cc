@@ -4,10 +4,13 @@
 #include <time.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <filesystem>
+#include <fstream>
 #include <opencv2/imgcodecs.hpp>
 #include <string>
 
+#include "session/image_io.h"
 #include "session/reader.h"
 #include "session/writer.h"
 
@@ -176,6 +179,73 @@ void BM_OpenSession(benchmark::State& state) {
 }
 BENCHMARK(BM_OpenSession)->UseRealTime()->Unit(benchmark::kMillisecond);
 
+/// Where DepthPngs writes its files (removed at exit).
+const fs::path& DepthPngDir() {
+  static const fs::path dir = FreshDir("depth_png");
+  return dir;
+}
+
+/// The 9 TUM depth frames as PNG files: 0 = written by the session writer (EncodeDepthPng: libdeflate,
+/// session/png_write.h), 1 = by OpenCV's speed path (libpng, zlib level 1, RLE; the writer before),
+/// 2 = TUM's own files as recorded (what an imported session reads). Written once per source.
+const std::vector<fs::path>& DepthPngs(int source) {
+  static std::vector<fs::path> files[3];
+  if (!files[source].empty()) return files[source];
+  const fs::path dir = DepthPngDir() / std::to_string(source);
+  fs::create_directories(dir);
+  const fs::path tum = fs::path(MOCAP_SHARED_DIR) / "realdata/tum_fr1_desk_9frames/depth";
+  std::vector<fs::path> originals;
+  for (const auto& entry : fs::directory_iterator(tum)) originals.push_back(entry.path());
+  std::sort(originals.begin(), originals.end());
+  if (source == 2) return files[source] = originals;
+  for (size_t k = 0; k < originals.size(); ++k) {
+    std::vector<uint8_t> bytes;
+    if (source == 0) bytes = EncodeDepthPng(Frames().depth[k], 1.0 / 5000.0, -1);
+    else cv::imencode(".png", Frames().depth[k], bytes);
+    files[source].push_back(dir / (std::to_string(k) + ".png"));
+    std::ofstream(files[source].back(), std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()),
+                                                                static_cast<std::streamsize>(bytes.size()));
+  }
+  return files[source];
+}
+
+double MeanKiloBytes(const std::vector<fs::path>& files) {
+  double bytes = 0;
+  for (const fs::path& f : files) bytes += static_cast<double>(fs::file_size(f));
+  return bytes / static_cast<double>(files.size()) / 1e3;
+}
+
+const char* DepthPngSource(int source) {
+  const char* names[] = {"session writer (libdeflate)", "OpenCV speed path (libpng)", "TUM's files"};
+  return names[source];
+}
+
+/// Encoding one real Kinect depth frame to PNG bytes (0: EncodeDepthPng; 1: cv::imencode's speed path).
+void BM_DepthPngEncode(benchmark::State& state) {
+  const TumFrames& frames = Frames();
+  size_t k = 0;
+  for (auto _ : state) {
+    const cv::Mat& depth = frames.depth[k++ % frames.depth.size()];
+    std::vector<uint8_t> bytes;
+    if (state.range(0) == 0) bytes = EncodeDepthPng(depth, 1.0 / 5000.0, -1);
+    else cv::imencode(".png", depth, bytes);
+    benchmark::DoNotOptimize(bytes.data());
+  }
+  state.counters["kB"] = MeanKiloBytes(DepthPngs(static_cast<int>(state.range(0))));
+  state.SetLabel(DepthPngSource(static_cast<int>(state.range(0))));
+}
+BENCHMARK(BM_DepthPngEncode)->DenseRange(0, 1)->Unit(benchmark::kMillisecond);
+
+/// Reading one depth PNG file to metres (ReadDepth: libdeflate + our row unfiltering), by who wrote it.
+void BM_DepthPngRead(benchmark::State& state) {
+  const std::vector<fs::path>& files = DepthPngs(static_cast<int>(state.range(0)));
+  size_t k = 0;
+  for (auto _ : state) benchmark::DoNotOptimize(ReadDepth(files[k++ % files.size()], 1.0 / 5000.0).data.data());
+  state.counters["kB"] = MeanKiloBytes(files);
+  state.SetLabel(DepthPngSource(static_cast<int>(state.range(0))));
+}
+BENCHMARK(BM_DepthPngRead)->DenseRange(0, 2)->Unit(benchmark::kMillisecond);
+
 }  // namespace
 }  // namespace mocap
 
@@ -184,5 +254,6 @@ int main(int argc, char** argv) {
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
   std::filesystem::remove_all(mocap::ReadSession());
+  std::filesystem::remove_all(mocap::DepthPngDir());
   return 0;
 }

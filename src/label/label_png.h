@@ -1,9 +1,9 @@
 #pragma once
 // PNG writing for label images (instance, class and packed mask PNGs): single-channel 8- or 16-bit
 // images that are mostly constant. Encoded here rather than through OpenCV + libpng + zlib, which spend
-// ~2 ms on a 640x480 16-bit label image: the SUB row filter, then deflate with runs only
-// (deflate_rle.h; what zlib's RLE strategy finds in label images, at a fraction of its cost), one IDAT
-// chunk, and the file written with a single write() call. The files are standard PNGs (any reader;
+// ~2 ms on a 640x480 16-bit label image: the SUB row filter and the chunks of session/png_write.h, then
+// deflate with runs only (deflate_rle.h; what zlib's RLE strategy finds in label images, at a fraction of
+// its cost), and the file written with a single write() call. The files are standard PNGs (any reader;
 // tests decode them with OpenCV and compare every pixel).
 #include <cstdint>
 #include <filesystem>

@@ -16,6 +16,7 @@
 #include "core/check.h"
 #include "session/durable_file.h"
 #include "session/png_gray16.h"
+#include "session/png_write.h"
 
 namespace mocap {
 namespace fs = std::filesystem;
@@ -123,11 +124,7 @@ std::vector<uint8_t> EncodeDepthPng(const cv::Mat& depth, double depth_unit_m, i
       }
     }
   }
-  std::vector<int> params;
-  if (png_compression >= 0) params = {cv::IMWRITE_PNG_COMPRESSION, png_compression};
-  std::vector<uint8_t> bytes;
-  MOCAP_CHECK(cv::imencode(".png", units, bytes, params), "encoding 16-bit PNG failed");
-  return bytes;
+  return EncodeGray16Png(units, png_compression < 0 ? kDefaultDepthPngLevel : png_compression);
 }
 
 void WriteDepthExr(const fs::path& path, const cv::Mat& depth, double depth_unit_m) {

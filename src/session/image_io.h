@@ -16,7 +16,8 @@ namespace mocap {
 std::vector<uint8_t> EncodeColor(const cv::Mat& color, const std::string& extension, int png_compression,
                                  int jpeg_quality);
 /// 16-bit PNG bytes of a depth image: CV_16UC1 is stored as is; CV_32FC1 metres are divided by
-/// depth_unit_m and rounded (values beyond 65535 units, NaN and negatives become 0 = invalid).
+/// depth_unit_m and rounded (values beyond 65535 units, NaN and negatives become 0 = invalid). Deflated
+/// by libdeflate (png_write.h) at png_compression, or at kDefaultDepthPngLevel for -1.
 std::vector<uint8_t> EncodeDepthPng(const cv::Mat& depth, double depth_unit_m, int png_compression);
 /// Writes a float OpenEXR depth file (channel "Z", metres; CV_16UC1 input is scaled by depth_unit_m).
 void WriteDepthExr(const std::filesystem::path& path, const cv::Mat& depth, double depth_unit_m);

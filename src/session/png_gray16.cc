@@ -11,17 +11,13 @@
 #include <memory>
 
 #include "core/check.h"
+#include "session/png_format.h"
 
 namespace mocap {
 namespace {
 
-constexpr uint8_t kSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
 constexpr size_t kBytesPerPixel = 2;                     // one 16-bit sample
 constexpr uint64_t kMaxScanlineBytes = uint64_t{1} << 30;  // refuses absurd headers before allocating
-
-uint32_t GetU32(const uint8_t* at) {
-  return (uint32_t{at[0]} << 24) | (uint32_t{at[1]} << 16) | (uint32_t{at[2]} << 8) | uint32_t{at[3]};
-}
 
 libdeflate_decompressor& Decompressor() {
   struct Free {
@@ -42,24 +38,24 @@ struct Chunks {
 
 /// Walks the chunks (PNG spec 5.3), checking every CRC; stops at IEND.
 Chunks ReadChunks(std::span<const uint8_t> png, const std::string& where) {
-  if (png.size() < sizeof(kSignature) || std::memcmp(png.data(), kSignature, sizeof(kSignature)) != 0)
+  if (png.size() < sizeof(kPngSignature) || std::memcmp(png.data(), kPngSignature, sizeof(kPngSignature)) != 0)
     throw InputError(where, "not a PNG file (no PNG signature)");
   Chunks chunks;
   size_t idat_count = 0;
-  for (size_t at = sizeof(kSignature);;) {
+  for (size_t at = sizeof(kPngSignature);;) {
     if (png.size() - at < 12) throw InputError(where, Str("PNG is cut short at byte ", at, " (no IEND chunk)"));
-    const uint32_t length = GetU32(&png[at]);
+    const uint32_t length = GetU32BigEndian(&png[at]);
     if (length > png.size() - at - 12)
       throw InputError(where, Str("PNG chunk at byte ", at, " claims ", length, " bytes, more than the file holds"));
     const uint8_t* type = &png[at + 4];
     const uint32_t crc = static_cast<uint32_t>(libdeflate_crc32(0, type, length + 4));
-    if (crc != GetU32(type + 4 + length))
+    if (crc != GetU32BigEndian(type + 4 + length))
       throw InputError(where, Str("PNG chunk '", std::string(reinterpret_cast<const char*>(type), 4), "' at byte ", at,
                                   " fails its CRC (corrupt file)"));
     const std::span<const uint8_t> data = png.subspan(at + 8, length);
-    if (at == sizeof(kSignature)) {
+    if (at == sizeof(kPngSignature)) {
       if (std::memcmp(type, "IHDR", 4) != 0 || length != 13) throw InputError(where, "PNG does not start with IHDR");
-      chunks.width = GetU32(&data[0]), chunks.height = GetU32(&data[4]);
+      chunks.width = GetU32BigEndian(&data[0]), chunks.height = GetU32BigEndian(&data[4]);
       // bit depth 16, colour type 0 (greyscale), compression 0, filter method 0, no interlace
       chunks.gray16 = data[8] == 16 && data[9] == 0 && data[10] == 0 && data[11] == 0 && data[12] == 0;
       if (!chunks.gray16) return chunks;
