@@ -82,11 +82,13 @@ struct Worker {
   LabelStageSeconds wall, cpu;
 };
 
-double ThreadCpuSeconds() {
+double CpuSeconds(clockid_t clock) {
   timespec t{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  clock_gettime(clock, &t);
   return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
 }
+double ThreadCpuSeconds() { return CpuSeconds(CLOCK_THREAD_CPUTIME_ID); }
+double ProcessCpuSeconds() { return CpuSeconds(CLOCK_PROCESS_CPUTIME_ID); }
 
 /// Wall and thread-CPU clocks of one worker, read at each stage boundary.
 struct StageClock {
@@ -170,6 +172,7 @@ void RunWorkers(const SessionReader& session, const std::vector<LabelObject>& ob
   std::exception_ptr error;
   std::mutex mutex;
   Clock::time_point first_frame = Clock::time_point::max(), last_frame = start;
+  double first_frame_cpu = 0, last_frame_cpu = 0;  // the process's CPU clock at those two moments
   auto run = [&] {
     try {
       const auto context = RenderContext::Create(options.context);
@@ -181,10 +184,14 @@ void RunWorkers(const SessionReader& session, const std::vector<LabelObject>& ob
                                                                                 : BackFaceCulling::kNever));
       Worker worker{renderer, handles, {}, {}, {}};
       const Clock::time_point begin = Clock::now();
+      const double begin_cpu = ProcessCpuSeconds();
       for (size_t w = next++; w < work.size() && !failed; w = next++)
         LabelFrame(session, objects, worker, jobs[work[w].first], work[w].second, options, out);
+      const Clock::time_point end = Clock::now();
+      const double end_cpu = ProcessCpuSeconds();
       std::lock_guard lock(mutex);
-      first_frame = std::min(first_frame, begin), last_frame = std::max(last_frame, Clock::now());
+      if (begin < first_frame) first_frame = begin, first_frame_cpu = begin_cpu;
+      if (end > last_frame) last_frame = end, last_frame_cpu = end_cpu;
       summary.stages += worker.wall;
       summary.stages_cpu += worker.cpu;
     } catch (...) {
@@ -201,6 +208,7 @@ void RunWorkers(const SessionReader& session, const std::vector<LabelObject>& ob
   summary.render_seconds = summary.stages.render;
   summary.setup_seconds = std::chrono::duration<double>(first_frame - start).count();
   summary.frames_seconds = std::chrono::duration<double>(last_frame - first_frame).count();
+  summary.frames_cpu_seconds = last_frame_cpu - first_frame_cpu;
 }
 
 void WriteLines(const std::vector<CameraJob>& jobs, const fs::path& file, LabelSummary& summary) {
@@ -251,6 +259,7 @@ nlohmann::json SummaryJson(const LabelSummary& s, const SessionReader& session) 
           {"seconds", s.seconds},
           {"setup_seconds", s.setup_seconds},
           {"frames_seconds", s.frames_seconds},
+          {"frames_cpu_seconds", s.frames_cpu_seconds},
           {"render_seconds", s.render_seconds},
           {"threads", s.threads},
           {"back_face_culling", CullingJson(s.culling)},

@@ -68,6 +68,9 @@ struct LabelSummary {
   /// Wall clock from the first frame started to the last one written: frames / frames_seconds is the
   /// labelling rate a long session sees.
   double frames_seconds = 0;
+  /// The process's CPU time (all threads) over that same span: what the frames cost, without the run's
+  /// set-up except a later worker's that overlaps it.
+  double frames_cpu_seconds = 0;
   double render_seconds = 0;      ///< summed over workers (= stages.render)
   LabelStageSeconds stages;       ///< wall time per stage, summed over workers
   LabelStageSeconds stages_cpu;   ///< CPU time of the worker threads per stage
