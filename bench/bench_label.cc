@@ -15,6 +15,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "label/labeller.h"
+#include "tests/pipeline/label_run_testing.h"
 #include "render/primitives.h"
 #include "session/image_io.h"
 #include "session/writer.h"
@@ -116,8 +117,8 @@ double ProcessSystemSeconds() {
 /// Output variants: 0 = the defaults; 1 = also BOP-style full-size masks; 2 = defaults with ZIPS depth;
 /// 3 = defaults without back-face culling (the defaults cull the closed spheres); 4 = no rendered depth; 5 = no mask files (these two split the
 /// encode + write stage).
-LabelOptions VariantOptions(const fs::path& out, int threads, int variant) {
-  LabelOptions options;
+LabelRunOptions VariantOptions(const fs::path& out, int threads, int variant) {
+  LabelRunOptions options;
   options.out_dir = out;
   options.threads = threads;
   options.output.write_bop_masks = variant == 1;
@@ -134,14 +135,14 @@ void BM_LabelSession(benchmark::State& state) {
   fs::create_directories(dir);
   std::vector<LabelObject> objects;
   const SessionReader session = SessionReader::Open(WriteBenchSession(dir, objects));
-  const LabelOptions options = VariantOptions(dir / "L", static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
+  const LabelRunOptions options = VariantOptions(dir / "L", static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
   double seconds = 0, setup_seconds = 0, frames_seconds = 0, frames_cpu_seconds = 0, cpu_seconds = 0,
          system_seconds = 0;
   LabelStageSeconds stages, stages_cpu;
   int64_t frames = 0;
   for (auto _ : state) {
     const double cpu0 = ProcessCpuSeconds(), system0 = ProcessSystemSeconds();
-    const LabelSummary summary = LabelSession(session, objects, Rig{}, options);
+    const LabelSummary summary = LabelSession(session, objects, LabelRig{}, options);
     cpu_seconds += ProcessCpuSeconds() - cpu0;
     system_seconds += ProcessSystemSeconds() - system0;
     seconds += summary.seconds;
@@ -206,9 +207,9 @@ struct LabelledOnce {
     std::vector<LabelObject> objects;
     const SessionReader session = SessionReader::Open(WriteBenchSession(dir, objects));
     session_depth = session.DepthPath("kinect1", 0);
-    LabelOptions options = VariantOptions(dir / "L", 1, 1);
+    LabelRunOptions options = VariantOptions(dir / "L", 1, 1);
     options.output.depth_compression = DepthCompression::kNone;
-    LabelSession(session, objects, Rig{}, options);
+    LabelSession(session, objects, LabelRig{}, options);
     images = dir / "L" / "kinect1";
   }
   ~LabelledOnce() { fs::remove_all(dir); }

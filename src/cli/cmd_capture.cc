@@ -1,5 +1,6 @@
 // mocaplabel capture daemon|start|stop|status: the capture daemon and its control over the local HTTP +
-// JSON API (docs/capture.md). The rig file's `capture:` section maps onto the daemon's options here.
+// JSON API (docs/capture.md). The rig file's `capture:` section is read by the pipeline's rig reader
+// (pipeline/rig.h) and mapped onto the daemon's options there.
 #include <CLI/CLI.hpp>
 #include <signal.h>
 
@@ -11,9 +12,8 @@
 #include "capture/daemon/rerecord.h"
 #include "capture/daemon/sources.h"
 #include "cli/commands.h"
-#include "cli/rig_yaml.h"
-#include "cli/yaml_util.h"
 #include "core/check.h"
+#include "pipeline/rig.h"
 // Last: it pulls in <resolv.h>, whose `_res` macro breaks Eigen headers included after it.
 #include <httplib.h>
 
@@ -23,86 +23,9 @@ namespace {
 namespace fs = std::filesystem;
 using capture::ControlServerOptions;
 
-struct CaptureRig {
-  capture::CaptureDaemonOptions daemon;
-  ControlServerOptions control;
-  std::optional<capture::NdiSourceOptions> tracker;
-  std::optional<capture::Kinect1SourceOptions> camera;
-};
+using CaptureRig = pipeline::CaptureOptions;
 
-// "host:port" onto the client's TCP fields.
-void ParseEndpoint(const fs::path& file, const YAML::Node& node, ndi::NdiClientOptions& client) {
-  const std::string endpoint = node.as<std::string>();
-  const size_t colon = endpoint.rfind(':');
-  if (colon == std::string::npos || colon == 0) throw InputError(Where(file, node), "tcp: expected HOST:PORT, e.g. 192.168.1.50:8765");
-  client.host = endpoint.substr(0, colon);
-  try {
-    client.port = std::stoi(endpoint.substr(colon + 1));
-  } catch (const std::exception&) {
-    throw InputError(Where(file, node), "tcp: the port of '" + endpoint + "' is not a number");
-  }
-}
-
-capture::NdiSourceOptions TrackerFromYaml(const fs::path& file, const YAML::Node& node) {
-  capture::NdiSourceOptions t;
-  t.stream = Optional<std::string>(file, node, "name", t.stream);
-  t.model = Optional<std::string>(file, node, "model", t.model);
-  if (node["tcp"] && node["serial"]) throw InputError(Where(file, node), "tracker: give either tcp or serial, not both");
-  if (node["tcp"]) ParseEndpoint(file, node["tcp"], t.client);
-  else if (node["serial"]) {
-    t.client.transport = ndi::NdiClientOptions::TransportKind::kSerial;
-    t.client.serial_device = Required<std::string>(file, node, "serial");
-    t.client.serial_baud = Optional<int>(file, node, "baud", t.client.serial_baud);
-  } else {
-    throw InputError(Where(file, node), "tracker: needs tcp: HOST:PORT or serial: DEVICE");
-  }
-  t.client.poll_rate_hz = Optional<double>(file, node, "rate_hz", t.client.poll_rate_hz);
-  const std::string protocol = Optional<std::string>(file, node, "protocol", "bx");
-  if (protocol != "bx" && protocol != "tx") throw InputError(Where(file, node), "tracker.protocol must be bx or tx");
-  t.client.use_bx = protocol == "bx";
-  if (const YAML::Node tools = node["tools"]) {
-    for (const auto& tool : tools)
-      t.client.tools.push_back({Required<std::string>(file, tool, "name"), Optional<std::string>(file, tool, "rom", ""),
-                                ndi::ToolMode::kDynamic});
-  }
-  return t;
-}
-
-capture::Kinect1SourceOptions CameraFromYaml(const fs::path& file, const YAML::Node& node, const Rig& rig) {
-  capture::Kinect1SourceOptions c;
-  const std::string model = Optional<std::string>(file, node, "model", "kinect1");
-  if (model != "kinect1") throw InputError(Where(file, node), "camera.model '" + model + "': only kinect1 is supported by the daemon");
-  c.stream = Optional<std::string>(file, node, "name", c.stream);
-  c.device.device_index = Optional<int>(file, node, "index", 0);
-  c.device.camera_serial = Optional<std::string>(file, node, "serial", "");
-  if (const RigCamera* calibrated = rig.Find(c.stream)) {  // the rig's calibration of this camera
-    c.color_camera = calibrated->color_camera;
-    c.camera_body = calibrated->body.value_or("");
-    c.T_body_camera = calibrated->T_body_camera.value_or(Rigid3d());
-  }
-  return c;
-}
-
-CaptureRig LoadCaptureRig(const fs::path& file) {
-  const YAML::Node root = LoadYamlFile(file);
-  const YAML::Node node = root["capture"];
-  if (!node) throw InputError(file.string(), "has no 'capture:' section (docs/capture.md)");
-  CaptureRig rig;
-  const Rig calibration = LoadRigYaml(file);
-  rig.daemon.rig_name = calibration.name;
-  fs::path sessions = Optional<std::string>(file, node, "sessions_dir", "sessions");
-  rig.daemon.sessions_dir = sessions.is_absolute() ? sessions : file.parent_path() / sessions;
-  if (const YAML::Node control = node["control"]) {
-    rig.control.bind = Optional<std::string>(file, control, "bind", rig.control.bind);
-    rig.control.port = Optional<int>(file, control, "port", rig.control.port);
-  }
-  rig.daemon.recorder.frame_queue = Optional<int>(file, node, "frame_queue", rig.daemon.recorder.frame_queue);
-  rig.daemon.recorder.sample_queue = Optional<int>(file, node, "sample_queue", rig.daemon.recorder.sample_queue);
-  if (node["tracker"]) rig.tracker = TrackerFromYaml(file, node["tracker"]);
-  if (node["camera"]) rig.camera = CameraFromYaml(file, node["camera"], calibration);
-  if (!rig.tracker && !rig.camera) throw InputError(Where(file, node), "capture: names neither a tracker nor a camera");
-  return rig;
-}
+CaptureRig LoadCaptureRig(const fs::path& file) { return pipeline::CaptureOptionsOf(pipeline::ReadRig(file)); }
 
 void WaitForSignal(const sigset_t& signals) {
   int signal = 0;

@@ -6,6 +6,7 @@
 
 #include "cli/commands.h"
 #include "core/check.h"
+#include "pipeline/object_library.h"
 #include "session/import/bop_import.h"
 #include "session/import/text_parse.h"
 #include "session/import/tracker_import.h"
@@ -117,6 +118,7 @@ int RunImport(int argc, char** argv) {
     import::BopImportOptions options;
     options.software_version = MOCAP_VERSION;
     options.frame_rate_hz = rate_hz;
+    options.write_objects = pipeline::WriteBopObjects;
     summary = import::ImportBop(source, models, out, options);
   }
   Print(summary, json);

@@ -6,23 +6,15 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.h"
-#include "cli/objects_yaml.h"
-#include "cli/rig_yaml.h"
 #include "core/check.h"
-#include "label/labeller.h"
+#include "pipeline/label_stage.h"
 
 namespace mocap::cli {
 namespace {
 
 namespace fs = std::filesystem;
 
-std::vector<LabelObject> FindObjects(const fs::path& session, const std::string& objects_flag) {
-  if (!objects_flag.empty()) return LoadObjectsYaml(objects_flag);
-  if (fs::exists(session / "objects.yaml")) return LoadObjectsYaml(session / "objects.yaml");
-  throw InputError(session.string(), "the session carries no objects.yaml; pass --objects (e.g. meshes/objects.yaml)");
-}
-
-void PrintHuman(const LabelSummary& s) {
+void PrintHuman(const LabelSummary& s, const fs::path& out) {
   std::printf("labelled %lld frames (%lld skipped: image files missing), %lld object records, %lld with a pose\n",
               static_cast<long long>(s.frames), static_cast<long long>(s.frames_skipped),
               static_cast<long long>(s.records), static_cast<long long>(s.records_with_pose));
@@ -30,7 +22,7 @@ void PrintHuman(const LabelSummary& s) {
   for (const auto& [flag, n] : s.flag_counts) std::printf("  %s=%lld", flag.c_str(), static_cast<long long>(n));
   const double rate = s.frames_seconds > 0 ? static_cast<double>(s.frames) / s.frames_seconds : 0.0;
   std::printf("\n%.2f s: set-up %.2f s, then %.1f frames/s (render %.2f s summed over threads); output in %s\n",
-              s.seconds, s.setup_seconds, rate, s.render_seconds, s.out_dir.string().c_str());
+              s.seconds, s.setup_seconds, rate, s.render_seconds, out.string().c_str());
 }
 
 }  // namespace
@@ -38,7 +30,8 @@ void PrintHuman(const LabelSummary& s) {
 int RunLabel(int argc, char** argv) {
   CLI::App app{"Label every frame of a session: masks, rendered depth, poses and flags", "mocaplabel label"};
   std::string session_dir, rig_file, objects_file, out_dir, platform = "auto";
-  LabelOptions options;
+  pipeline::LabelRunRequest request;
+  LabelOptions& options = request.label;
   double max_gap_ms = 50.0;
   bool json = false;
   app.add_option("session", session_dir, "session folder")->required();
@@ -62,7 +55,11 @@ int RunLabel(int argc, char** argv) {
   app.add_flag("--json", json, "print one JSON summary on stdout");
   CLI11_PARSE(app, argc, argv);
 
-  options.out_dir = out_dir.empty() ? fs::path(session_dir) / "labels" : fs::path(out_dir);
+  request.session_dir = session_dir;
+  request.rig_file = rig_file;
+  request.objects_file = objects_file;
+  request.out_dir = out_dir.empty() ? fs::path(session_dir) / "labels" : fs::path(out_dir);
+  request.command.assign(argv, argv + argc);
   options.output.write_masks = !no_masks;
   options.output.write_depth = !no_depth;
   options.output.depth_compression = DepthCompressionFromString(depth_compression);
@@ -73,20 +70,18 @@ int RunLabel(int argc, char** argv) {
   // default) then only add hand-over cost: 36 -> 29-34 ms CPU per frame with 2 workers (bench/RESULTS.md,
   // bench_label). Mesa reads the variable once, at the first EGL display, which is still to come here.
   if (options.threads != 1 && std::getenv("LP_NUM_THREADS") == nullptr) setenv("LP_NUM_THREADS", "0", 0);
-  const SessionReader session = SessionReader::Open(session_dir);
-  const Rig rig = rig_file.empty() ? Rig{} : LoadRigYaml(rig_file);
-  const std::vector<LabelObject> objects = FindObjects(session_dir, objects_file);
-  const LabelSummary summary = LabelSession(session, objects, rig, options);
+  const pipeline::LabelRunResult result = pipeline::RunLabel(request);
+  const LabelSummary& summary = result.summary;
   if (json) {
     const nlohmann::json j = {{"frames", summary.frames},          {"frames_skipped", summary.frames_skipped},
                               {"records", summary.records},        {"records_with_pose", summary.records_with_pose},
                               {"frames_flagged", summary.frames_flagged}, {"flag_counts", summary.flag_counts},
                               {"seconds", summary.seconds},        {"setup_seconds", summary.setup_seconds},
                               {"frames_seconds", summary.frames_seconds}, {"render_seconds", summary.render_seconds},
-                              {"complete", summary.complete},      {"out", summary.out_dir.string()}};
+                              {"complete", true},                  {"out", result.out_dir.string()}};
     std::printf("%s\n", j.dump().c_str());
   } else {
-    PrintHuman(summary);
+    PrintHuman(summary, result.out_dir);
   }
   return 0;
 }

@@ -3,12 +3,15 @@
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <nlohmann/json.hpp>
 
 #include "capture/kinect/fakenect_frame_tap.h"
 #include "cli/commands.h"
 #include "cli/scenario_yaml.h"
 #include "core/check.h"
+#include "pipeline/object_library.h"
+#include "pipeline/record_stage.h"
 #include "sim/mesh_generator.h"
 #include "sim/record/sim_recorder.h"
 #include "sim/truth.h"
@@ -17,7 +20,8 @@ namespace mocap::cli {
 namespace {
 
 int RunSimMeshes(const std::string& out_dir, bool json) {
-  const std::vector<std::string> written = sim::WriteMeshLibrary(out_dir);
+  std::vector<std::string> written = sim::WriteMeshLibrary(out_dir);
+  written.push_back(pipeline::WriteBuiltInObjectLibrary(out_dir).string());
   if (json) {
     std::printf("%s\n", nlohmann::json{{"written", written}}.dump().c_str());
   } else {
@@ -28,7 +32,8 @@ int RunSimMeshes(const std::string& out_dir, bool json) {
 
 int RunSimCheck(const std::string& scenario_path, const std::string& objects_path, bool print_yaml, bool json) {
   const sim::Scenario scenario = scenario_path.empty() ? sim::DefaultScenario() : LoadScenarioYaml(scenario_path);
-  const sim::ObjectLibrary library = objects_path.empty() ? sim::DefaultObjectLibrary() : LoadSimObjectsYaml(objects_path);
+  const sim::SimObjects library =
+      objects_path.empty() ? sim::DefaultSimObjects() : pipeline::SimObjectsOf(pipeline::ReadObjectLibrary(objects_path));
   scenario.check(library, scenario_path.empty() ? "default scenario" : scenario_path);
   if (print_yaml) {
     std::printf("%s", EncodeScenarioYaml(scenario).c_str());
@@ -68,9 +73,8 @@ struct RecordFlags {
 int RunSimRecord(const RecordFlags& flags, bool json) {
   const sim::Scenario scenario = flags.scenario.empty() ? sim::DefaultScenario() : LoadScenarioYaml(flags.scenario);
   // Without --objects the built-in library's meshes are generated into the session (an empty folder).
-  const sim::ObjectLibrary library = flags.objects.empty() ? sim::DefaultObjectLibrary() : LoadSimObjectsYaml(flags.objects);
-  const std::filesystem::path library_dir =
-      flags.objects.empty() ? std::filesystem::path() : std::filesystem::absolute(flags.objects).parent_path();
+  std::optional<pipeline::ObjectLibrary> library;
+  if (!flags.objects.empty()) library = pipeline::ReadObjectLibrary(flags.objects);
   sim::RecordOptions options;
   options.out_dir = flags.out;
   options.threads = flags.threads;
@@ -78,11 +82,12 @@ int RunSimRecord(const RecordFlags& flags, bool json) {
   if (flags.fakenect) fakenect = std::make_unique<capture::FakenectFrameTap>(std::filesystem::path(flags.out) / "fakenect");
   options.frame_tap = fakenect.get();
   options.context.platform = EglPlatformFromString(flags.platform);
-  const sim::RecordResult r = sim::RecordSimulation(scenario, library, library_dir, options);
+  const pipeline::SimRecordResult recorded = pipeline::RecordSimulatedSession(scenario, library ? &*library : nullptr, options);
+  const sim::RecordResult& r = recorded.record;
   const nlohmann::json summary{{"session", r.session_dir.string()},   {"frames", r.frames},
                                {"tracker_samples", r.tracker_samples}, {"invalid_depth_fraction", r.invalid_depth_fraction},
-                               {"seconds", r.seconds},                {"rig", r.rig_file.string()},
-                               {"objects", r.objects_file.string()},  {"truth", r.truth_dir.string()},
+                               {"seconds", r.seconds},                {"rig", recorded.rig_file.string()},
+                               {"objects", recorded.objects_file.string()},  {"truth", r.truth_dir.string()},
                                {"fakenect", fakenect ? fakenect->dir().string() : std::string()}, {"errors_injected", scenario.options.errors.any()}};
   if (json) {
     std::printf("%s\n", summary.dump().c_str());
@@ -92,7 +97,7 @@ int RunSimRecord(const RecordFlags& flags, bool json) {
               r.frames, static_cast<long long>(r.tracker_samples), scenario.options.name.c_str(), r.seconds,
               r.session_dir.string().c_str(), 100 * r.invalid_depth_fraction);
   std::printf("label it with: mocaplabel label %s --rig %s --objects %s\n", r.session_dir.string().c_str(),
-              r.rig_file.string().c_str(), r.objects_file.string().c_str());
+              recorded.rig_file.string().c_str(), recorded.objects_file.string().c_str());
   return 0;
 }
 

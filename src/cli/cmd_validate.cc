@@ -5,24 +5,15 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.h"
-#include "cli/validation_objects.h"
 #include "core/check.h"
-#include "validate/validation_output.h"
+#include "pipeline/validate_stage.h"
+#include "pipeline/json_read.h"
+#include "pipeline/validation_run.h"
 
 namespace mocap::cli {
 namespace {
 
 namespace fs = std::filesystem;
-
-/// The object library with each object's declared symmetry: estimates of a symmetric object are compared
-/// with its labels modulo the symmetry (ApplySymmetry).
-std::vector<ValidationObject> FindObjects(const fs::path& session, const std::string& objects_flag) {
-  fs::path file = objects_flag;
-  if (file.empty()) file = session / "objects.yaml";
-  if (!fs::exists(file))
-    throw InputError(file.string(), "no object library; pass --objects (the one the label run used)");
-  return LoadValidationObjects(file);
-}
 
 void PrintHuman(const ValidationSummary& s, const fs::path& out) {
   std::printf("checked %lld of %lld label records (%lld without a pose); SegICP success %.1f %%\n",
@@ -45,7 +36,8 @@ int RunValidate(int argc, char** argv) {
   CLI::App app{"Check every label against the measured depth with SegICP; verdicts and a report", "mocaplabel validate"};
   std::string session_dir, labels_dir, objects_file, masks_dir, out_dir, mask_values = "object", crops = "surface",
                                                                          seed = "label", platform = "auto";
-  SessionCheckOptions options;
+  pipeline::ValidateRunRequest request;
+  SessionCheckOptions& options = request.check;
   bool json = false;
   app.add_option("session", session_dir, "session folder")->required();
   app.add_option("--labels", labels_dir, "label run folder (default: SESSION/labels)");
@@ -65,16 +57,20 @@ int RunValidate(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
 
   options.labels_dir = labels_dir.empty() ? fs::path(session_dir) / "labels" : fs::path(labels_dir);
+  request.session_dir = session_dir;
+  request.labels_dir = options.labels_dir;
+  request.objects_file = objects_file;
+  request.command.assign(argv, argv + argc);
   options.masks_dir = masks_dir;
   options.mask_values = mask_values == "object" ? MaskValues::kObjectId : MaskValues::kInstanceId;
   options.crops = crops == "renderer" ? CropBackend::kRenderer : CropBackend::kSurface;
   options.validate.check_seed = seed == "label" ? AcquisitionSeed::kLabel : AcquisitionSeed::kViewSphere;
   options.context.platform = EglPlatformFromString(platform);
   const fs::path out = out_dir.empty() ? fs::path(session_dir) / "validation" : fs::path(out_dir);
-  const SessionReader session = SessionReader::Open(session_dir);
-  const SessionValidation result = ValidateSession(session, FindObjects(session_dir, objects_file), options, out);
+  request.out_dir = out;
+  const SessionValidation result = pipeline::RunValidate(request);
   if (json)
-    std::printf("%s\n", ValidationSummaryJson(result.summary, options, session_dir).dump().c_str());
+    std::printf("%s\n", pipeline::ReadJsonFile(pipeline::ValidationRunLayout{out}.summary_json()).dump().c_str());
   else
     PrintHuman(result.summary, out);
   return 0;

@@ -10,41 +10,22 @@
 #include <sstream>
 
 #include "core/check.h"
+#include "pipeline/yaml_read.h"
 
 namespace mocap::cli {
 namespace {
 
 using sim::PoseKeyframe;
 
-/// Where a node is: "file:line" (1-based).
-struct Ctx {
-  std::string file;
-  std::string at(const YAML::Node& node) const {
-    const YAML::Mark mark = node.Mark();
-    return mark.line >= 0 ? Str(file, ":", mark.line + 1) : file;
-  }
-};
+using pipeline::As;
+using pipeline::Numbers;
+using pipeline::YamlDoc;
+using pipeline::YamlMap;
+using Ctx = YamlDoc;
 
+/// Every key of the map `node` must be one of `allowed` (a typo is an error, with "did you mean").
 void CheckKeys(const Ctx& ctx, const YAML::Node& node, std::initializer_list<const char*> allowed) {
-  if (!node.IsMap()) throw InputError(ctx.at(node), "expected a map");
-  const std::set<std::string> keys(allowed.begin(), allowed.end());
-  for (const auto& item : node) {
-    const std::string key = item.first.as<std::string>();
-    if (keys.count(key) == 0) {
-      std::string list;
-      for (const auto& k : keys) list += (list.empty() ? "" : ", ") + k;
-      throw InputError(ctx.at(item.first), Str("unknown key '", key, "' (expected one of: ", list, ")"));
-    }
-  }
-}
-
-template <typename T>
-T As(const Ctx& ctx, const YAML::Node& node, const std::string& what) {
-  try {
-    return node.as<T>();
-  } catch (const YAML::Exception&) {
-    throw InputError(ctx.at(node), Str("'", what, "' has the wrong type (", node.Scalar(), ")"));
-  }
+  const YamlMap map(ctx, node, "this map", allowed);
 }
 
 template <typename T>
@@ -52,21 +33,7 @@ void Read(const Ctx& ctx, const YAML::Node& parent, const char* key, T& value) {
   if (const YAML::Node node = parent[key]) value = As<T>(ctx, node, key);
 }
 
-std::vector<double> Numbers(const Ctx& ctx, const YAML::Node& node, size_t count, const std::string& what) {
-  if (!node.IsSequence() || node.size() != count) throw InputError(ctx.at(node), Str("'", what, "' must be a list of ", count, " numbers"));
-  std::vector<double> values;
-  for (const auto& item : node) {
-    const double v = As<double>(ctx, item, what);
-    if (!std::isfinite(v)) throw InputError(ctx.at(item), Str("'", what, "' holds a non-finite number"));
-    values.push_back(v);
-  }
-  return values;
-}
-
-Eigen::Vector3d Vec3(const Ctx& ctx, const YAML::Node& node, const std::string& what) {
-  const auto v = Numbers(ctx, node, 3, what);
-  return {v[0], v[1], v[2]};
-}
+Eigen::Vector3d Vec3(const Ctx& ctx, const YAML::Node& node, const std::string& what) { return pipeline::Vector3(ctx, node, what); }
 
 void ReadVec3(const Ctx& ctx, const YAML::Node& parent, const char* key, Eigen::Vector3d& value) {
   if (const YAML::Node node = parent[key]) value = Vec3(ctx, node, key);
@@ -76,43 +43,46 @@ void ReadVec3(const Ctx& ctx, const YAML::Node& parent, const char* key, Eigen::
 Rigid3d Pose(const Ctx& ctx, const YAML::Node& node, std::initializer_list<const char*> extra_keys = {}, bool minus_z = false) {
   std::vector<const char*> keys{"translation_m", "rotation_wxyz", "rvec_rad", "rpy_deg", "look_at"};
   keys.insert(keys.end(), extra_keys.begin(), extra_keys.end());
-  if (!node.IsMap()) throw InputError(ctx.at(node), "expected a pose {translation_m, rotation_wxyz | rvec_rad | rpy_deg} or {look_at}");
+  if (!node.IsMap()) throw InputError(ctx.Where(node), "expected a pose {translation_m, rotation_wxyz | rvec_rad | rpy_deg} or {look_at}");
   for (const auto& item : node) {
     const std::string key = item.first.as<std::string>();
     if (std::find_if(keys.begin(), keys.end(), [&](const char* k) { return key == k; }) == keys.end())
-      throw InputError(ctx.at(item.first), Str("unknown pose key '", key, "'"));
+      throw InputError(ctx.Where(item.first), Str("unknown pose key '", key, "'",
+                                                   pipeline::NearestKey(key, {keys.begin(), keys.end()}).empty()
+                                                       ? ""
+                                                       : Str(" (did you mean '", pipeline::NearestKey(key, {keys.begin(), keys.end()}), "'?)")));
   }
   if (const YAML::Node look = node["look_at"]) {
     CheckKeys(ctx, look, {"position", "target", "up"});
-    if (!look["position"] || !look["target"]) throw InputError(ctx.at(look), "look_at needs 'position' and 'target'");
+    if (!look["position"] || !look["target"]) throw InputError(ctx.Where(look), "look_at needs 'position' and 'target'");
     const Eigen::Vector3d up = look["up"] ? Vec3(ctx, look["up"], "up") : Eigen::Vector3d::UnitZ();
     const Eigen::Vector3d p = Vec3(ctx, look["position"], "position"), t = Vec3(ctx, look["target"], "target");
     if ((t - p).norm() < 1e-6 || (t - p).normalized().cross(up.normalized()).norm() < 1e-6)
-      throw InputError(ctx.at(look), "look_at: target equals position or the view is parallel to 'up'");
+      throw InputError(ctx.Where(look), "look_at: target equals position or the view is parallel to 'up'");
     return sim::LookAt(p, t, up.normalized(), minus_z);
   }
-  if (!node["translation_m"]) throw InputError(ctx.at(node), "pose without 'translation_m'");
+  if (!node["translation_m"]) throw InputError(ctx.Where(node), "pose without 'translation_m'");
   const Eigen::Vector3d t = Vec3(ctx, node["translation_m"], "translation_m");
   const int rotations = !!node["rotation_wxyz"] + !!node["rvec_rad"] + !!node["rpy_deg"];
-  if (rotations > 1) throw InputError(ctx.at(node), "give one of rotation_wxyz, rvec_rad, rpy_deg");
+  if (rotations > 1) throw InputError(ctx.Where(node), "give one of rotation_wxyz, rvec_rad, rpy_deg");
   if (node["rvec_rad"]) return Rigid3d::FromRvec(Vec3(ctx, node["rvec_rad"], "rvec_rad"), t);
   if (node["rpy_deg"]) return sim::PoseXyzRpy(t, Vec3(ctx, node["rpy_deg"], "rpy_deg"));
   if (!node["rotation_wxyz"]) return Rigid3d(Eigen::Quaterniond::Identity(), t);
   const auto q = Numbers(ctx, node["rotation_wxyz"], 4, "rotation_wxyz");
   const double norm = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
   if (std::abs(norm - 1.0) > 1e-3)
-    throw InputError(ctx.at(node["rotation_wxyz"]), Str("quaternion norm ", norm, " is not 1 (order is w x y z)"));
+    throw InputError(ctx.Where(node["rotation_wxyz"]), Str("quaternion norm ", norm, " is not 1 (order is w x y z)"));
   return Rigid3d::FromQuatWxyz(q[0], q[1], q[2], q[3], t);
 }
 
 std::vector<PoseKeyframe> Keyframes(const Ctx& ctx, const YAML::Node& node, const std::string& what) {
-  if (!node.IsSequence() || node.size() == 0) throw InputError(ctx.at(node), Str("'", what, "' must be a non-empty list of keyframes"));
+  if (!node.IsSequence() || node.size() == 0) throw InputError(ctx.Where(node), Str("'", what, "' must be a non-empty list of keyframes"));
   std::vector<PoseKeyframe> keyframes;
   for (const auto& item : node) {
-    if (!item["t_s"]) throw InputError(ctx.at(item), "keyframe without 't_s'");
+    if (!item["t_s"]) throw InputError(ctx.Where(item), "keyframe without 't_s'");
     keyframes.push_back({As<double>(ctx, item["t_s"], "t_s"), Pose(ctx, item, {"t_s"})});
     if (keyframes.size() > 1 && !(keyframes.back().t_s > keyframes[keyframes.size() - 2].t_s))
-      throw InputError(ctx.at(item), "keyframe times must increase");
+      throw InputError(ctx.Where(item), "keyframe times must increase");
   }
   return keyframes;
 }
@@ -121,16 +91,16 @@ sim::MarkerBody Body(const Ctx& ctx, const YAML::Node& node, sim::MarkerBody bod
   CheckKeys(ctx, node, {"name", "markers_m", "marker_normal"});
   Read(ctx, node, "name", body.name);
   if (const YAML::Node markers = node["markers_m"]) {
-    if (!markers.IsSequence()) throw InputError(ctx.at(markers), "'markers_m' must be a list of [x, y, z]");
+    if (!markers.IsSequence()) throw InputError(ctx.Where(markers), "'markers_m' must be a list of [x, y, z]");
     body.markers_m.clear();
     for (const auto& m : markers) body.markers_m.push_back(Vec3(ctx, m, "markers_m"));
   }
   if (const YAML::Node n = node["marker_normal"]) {
     const Eigen::Vector3d normal = Vec3(ctx, n, "marker_normal");
-    if (normal.norm() < 1e-9) throw InputError(ctx.at(n), "'marker_normal' is zero");
+    if (normal.norm() < 1e-9) throw InputError(ctx.Where(n), "'marker_normal' is zero");
     body.normal_body = normal.normalized();
   }
-  body.check(ctx.at(node));
+  body.check(ctx.Where(node));
   return body;
 }
 
@@ -193,10 +163,10 @@ void ReadErrors(const Ctx& ctx, const YAML::Node& node, sim::CalibrationErrors& 
     ReadVec3(ctx, m, "rotation_deg", e.camera_mount_rotation_deg);
   }
   if (const YAML::Node list = node["object_mounts"]) {
-    if (!list.IsSequence()) throw InputError(ctx.at(list), "'object_mounts' must be a list");
+    if (!list.IsSequence()) throw InputError(ctx.Where(list), "'object_mounts' must be a list");
     for (const auto& m : list) {
       CheckKeys(ctx, m, {"object", "translation_m", "rotation_deg"});
-      if (!m["object"]) throw InputError(ctx.at(m), "object mount error without 'object'");
+      if (!m["object"]) throw InputError(ctx.Where(m), "object mount error without 'object'");
       sim::CalibrationErrors::ObjectMount mount;
       mount.object = As<std::string>(ctx, m["object"], "object");
       ReadVec3(ctx, m, "translation_m", mount.translation_m);
@@ -223,17 +193,17 @@ void ReadCamera(const Ctx& ctx, const YAML::Node& node, sim::Scenario& s) {
     } else if (type == "handheld") {
       c.type = sim::CameraMotion::Type::kHandheld;
     } else {
-      throw InputError(ctx.at(m), Str("unknown camera motion '", type, "' (expected robot_head or handheld)"));
+      throw InputError(ctx.Where(m), Str("unknown camera motion '", type, "' (expected robot_head or handheld)"));
     }
   }
   if (const YAML::Node p = node["head_pose"]) c.T_world_head = Pose(ctx, p);
   if (const YAML::Node p = node["T_tilt_camera"]) c.T_tilt_camera = Pose(ctx, p);
   if (const YAML::Node list = node["pan_tilt"]) {
-    if (!list.IsSequence() || list.size() == 0) throw InputError(ctx.at(list), "'pan_tilt' must be a non-empty list");
+    if (!list.IsSequence() || list.size() == 0) throw InputError(ctx.Where(list), "'pan_tilt' must be a non-empty list");
     c.pan_tilt.clear();
     for (const auto& k : list) {
       CheckKeys(ctx, k, {"t_s", "pan_deg", "tilt_deg"});
-      if (!k["t_s"]) throw InputError(ctx.at(k), "pan_tilt keyframe without 't_s'");
+      if (!k["t_s"]) throw InputError(ctx.Where(k), "pan_tilt keyframe without 't_s'");
       sim::PanTiltKeyframe key;
       Read(ctx, k, "t_s", key.t_s);
       Read(ctx, k, "pan_deg", key.pan_deg);
@@ -250,20 +220,20 @@ void ReadCamera(const Ctx& ctx, const YAML::Node& node, sim::Scenario& s) {
 
 void ReadScene(const Ctx& ctx, const YAML::Node& root, sim::Scenario& s) {
   if (const YAML::Node list = root["objects"]) {
-    if (!list.IsSequence() || list.size() == 0) throw InputError(ctx.at(list), "'objects' must be a non-empty list");
+    if (!list.IsSequence() || list.size() == 0) throw InputError(ctx.Where(list), "'objects' must be a non-empty list");
     s.objects.clear();
     for (const auto& o : list) {
       CheckKeys(ctx, o, {"name", "keyframes"});
-      if (!o["name"] || !o["keyframes"]) throw InputError(ctx.at(o), "an object needs 'name' and 'keyframes'");
+      if (!o["name"] || !o["keyframes"]) throw InputError(ctx.Where(o), "an object needs 'name' and 'keyframes'");
       s.objects.push_back({As<std::string>(ctx, o["name"], "name"), Keyframes(ctx, o["keyframes"], "keyframes")});
     }
   }
   if (const YAML::Node list = root["occluders"]) {
-    if (!list.IsSequence()) throw InputError(ctx.at(list), "'occluders' must be a list");
+    if (!list.IsSequence()) throw InputError(ctx.Where(list), "'occluders' must be a list");
     s.occluders.clear();
     for (const auto& o : list) {
       CheckKeys(ctx, o, {"name", "mesh", "box_center_m", "box_half_extents_m", "keyframes"});
-      if (!o["name"] || !o["mesh"] || !o["keyframes"]) throw InputError(ctx.at(o), "an occluder needs 'name', 'mesh' and 'keyframes'");
+      if (!o["name"] || !o["mesh"] || !o["keyframes"]) throw InputError(ctx.Where(o), "an occluder needs 'name', 'mesh' and 'keyframes'");
       sim::ScenarioOccluder occluder;
       occluder.name = As<std::string>(ctx, o["name"], "name");
       occluder.mesh = As<std::string>(ctx, o["mesh"], "mesh");
@@ -275,16 +245,9 @@ void ReadScene(const Ctx& ctx, const YAML::Node& root, sim::Scenario& s) {
   }
 }
 
-}  // namespace
-
-sim::Scenario ParseScenarioYaml(const std::string& text, const std::string& file_name) {
-  const Ctx ctx{file_name};
-  YAML::Node root;
-  try {
-    root = YAML::Load(text);
-  } catch (const YAML::ParserException& e) {
-    throw InputError(Str(file_name, ":", e.mark.line + 1), Str("YAML syntax error: ", e.msg));
-  }
+sim::Scenario ScenarioFromDoc(const Ctx& ctx) {
+  const std::string& file_name = ctx.file;
+  const YAML::Node& root = ctx.root;
   if (!root.IsMap()) throw InputError(file_name, "a scenario must be a YAML map");
   CheckKeys(ctx, root, {"name", "seed", "frame_rate_hz", "frame_count", "start_s", "sensor", "kinect1", "kinect2", "tracker",
                         "camera", "objects", "occluders", "errors"});
@@ -295,7 +258,7 @@ sim::Scenario ParseScenarioYaml(const std::string& text, const std::string& file
   Read(ctx, root, "frame_rate_hz", o.frame_rate_hz);
   Read(ctx, root, "frame_count", o.frame_count);
   Read(ctx, root, "start_s", o.start_s);
-  if (const YAML::Node sensor = root["sensor"]) o.sensor = sim::SensorKindFromString(As<std::string>(ctx, sensor, "sensor"), ctx.at(sensor));
+  if (const YAML::Node sensor = root["sensor"]) o.sensor = sim::SensorKindFromString(As<std::string>(ctx, sensor, "sensor"), ctx.Where(sensor));
   if (const YAML::Node n = root["kinect1"]) ReadKinect1(ctx, n, o.kinect1);
   if (const YAML::Node n = root["kinect2"]) ReadKinect2(ctx, n, o.kinect2);
   if (const YAML::Node n = root["tracker"]) ReadTracker(ctx, n, o.tracker);
@@ -310,69 +273,12 @@ sim::Scenario ParseScenarioYaml(const std::string& text, const std::string& file
   return s;
 }
 
-namespace {
-
-std::string ReadText(const std::filesystem::path& path) {
-  std::ifstream file(path);
-  if (!file) throw InputError(path.string(), "cannot open the file (does it exist and is it readable?)");
-  std::ostringstream text;
-  text << file.rdbuf();
-  return text.str();
-}
-
 }  // namespace
 
-sim::Scenario LoadScenarioYaml(const std::filesystem::path& path) { return ParseScenarioYaml(ReadText(path), path.string()); }
-
-sim::ObjectLibrary ParseSimObjectsYaml(const std::string& text, const std::string& file_name) {
-  const Ctx ctx{file_name};
-  YAML::Node root;
-  try {
-    root = YAML::Load(text);
-  } catch (const YAML::ParserException& e) {
-    throw InputError(Str(file_name, ":", e.mark.line + 1), Str("YAML syntax error: ", e.msg));
-  }
-  if (!root.IsMap() || !root["objects"] || !root["objects"].IsSequence()) throw InputError(file_name, "expected a list 'objects'");
-  sim::ObjectLibrary library;
-  for (const auto& node : root["objects"]) {
-    sim::ObjectSpec o;
-    for (const char* key : {"id", "name", "mesh", "unit"})
-      if (!node[key]) throw InputError(ctx.at(node), Str("object without '", key, "'"));
-    o.id = As<int>(ctx, node["id"], "id");
-    o.name = As<std::string>(ctx, node["name"], "name");
-    o.object_class = node["class"] ? As<std::string>(ctx, node["class"], "class") : o.name;
-    o.mesh = As<std::string>(ctx, node["mesh"], "mesh");
-    const std::string unit = As<std::string>(ctx, node["unit"], "unit");
-    if (unit == "m") o.unit_scale_to_m = 1.0;
-    else if (unit == "cm") o.unit_scale_to_m = 0.01;
-    else if (unit == "mm") o.unit_scale_to_m = 0.001;
-    else throw InputError(ctx.at(node["unit"]), Str("unknown unit '", unit, "' (m, cm or mm)"));
-    if (const YAML::Node list = node["symmetries"]) {
-      for (const auto& sym : list) {
-        sim::Symmetry s;
-        const std::string type = sym["type"] ? As<std::string>(ctx, sym["type"], "type") : "";
-        if (type != "continuous" && type != "discrete") throw InputError(ctx.at(sym), "symmetry 'type' must be continuous or discrete");
-        s.type = type == "continuous" ? sim::Symmetry::Type::kContinuous : sim::Symmetry::Type::kDiscrete;
-        ReadVec3(ctx, sym, "axis", s.axis);
-        ReadVec3(ctx, sym, "offset_m", s.offset_m);
-        Read(ctx, sym, "angle_deg", s.angle_deg);
-        o.symmetries.push_back(s);
-      }
-    }
-    if (!node["tracker_body"] || !node["markers_m"]) throw InputError(ctx.at(node), Str("object '", o.name, "' needs 'tracker_body' and 'markers_m' for simulation"));
-    o.body.name = As<std::string>(ctx, node["tracker_body"], "tracker_body");
-    for (const auto& m : node["markers_m"]) o.body.markers_m.push_back(Vec3(ctx, m, "markers_m"));
-    if (node["marker_normal"]) o.body.normal_body = Vec3(ctx, node["marker_normal"], "marker_normal").normalized();
-    if (node["T_body_mesh"]) o.T_body_mesh = Pose(ctx, node["T_body_mesh"]);
-    Read(ctx, node, "reflectivity", o.reflectivity);
-    Read(ctx, node, "tof_deformation_m", o.tof_deformation_m);
-    o.check(ctx.at(node));
-    library.objects.push_back(o);
-  }
-  library.check(file_name);
-  return library;
+sim::Scenario ParseScenarioYaml(const std::string& text, const std::string& file_name) {
+  return ScenarioFromDoc(pipeline::ParseYaml(text, file_name));
 }
 
-sim::ObjectLibrary LoadSimObjectsYaml(const std::filesystem::path& path) { return ParseSimObjectsYaml(ReadText(path), path.string()); }
+sim::Scenario LoadScenarioYaml(const std::filesystem::path& path) { return ScenarioFromDoc(pipeline::LoadYaml(path)); }
 
 }  // namespace mocap::cli

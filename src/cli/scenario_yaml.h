@@ -1,11 +1,10 @@
 #pragma once
-// Simulation scenarios (docs/simulation.md) and the simulator's view of an object library
-// (docs/objects.md) from YAML onto the sim structs: the only place these files are read. Errors name
-// the file and the line of the offending node.
+// Simulation scenarios (docs/simulation.md) from YAML onto the sim structs: the only place scenario
+// files are read, with the pipeline's strict YAML helpers (pipeline/yaml_read.h). Errors name the file,
+// the line and the key; an unknown key is an error with "did you mean".
 #include <filesystem>
 #include <string>
 
-#include "sim/object_library.h"
 #include "sim/scenario.h"
 
 namespace mocap::cli {
@@ -18,9 +17,5 @@ sim::Scenario LoadScenarioYaml(const std::filesystem::path& path);
 
 /// The YAML text of a scenario (what scenarios/default.yaml holds for DefaultScenario()).
 std::string EncodeScenarioYaml(const sim::Scenario& scenario);
-
-/// objects.yaml with the simulator's fields (markers_m, marker_normal, reflectivity, ...).
-sim::ObjectLibrary ParseSimObjectsYaml(const std::string& text, const std::string& file_name);
-sim::ObjectLibrary LoadSimObjectsYaml(const std::filesystem::path& path);
 
 }  // namespace mocap::cli

@@ -1,10 +1,8 @@
 #pragma once
-// The files of a label run (docs/labels.md): per camera and frame the instance and class PNGs (uint16),
-// the rendered depth (OpenEXR, metres), one mask PNG per frame carrying every object's three masks
-// (mask_file.h), optionally BOP-style full-size masks and an overlay, and one labels.jsonl record per
-// frame and object instance.
+// What the labeller hands on for each frame (LabelledFrame, to a LabelSink) and the images derived from
+// it: the class image, the overlay, BOP's full-size masks. The files of a label run and their layout are
+// the pipeline's (pipeline/label_run.h, docs/labels.md).
 #include <filesystem>
-#include <nlohmann/json.hpp>
 #include <opencv2/core/mat.hpp>
 #include <string>
 #include <vector>
@@ -34,17 +32,39 @@ struct InstanceResult {
   const PackedMasks* packed = nullptr;
 };
 
-/// "000123": the file stem of camera record `index`.
-std::string FrameStem(int64_t index);
+/// Object ids per pixel (the class image), from the render's instance ids through each instance's
+/// object id. Returns a buffer of the calling thread that the next call overwrites.
+const LabelImage& ClassImage(const RenderOutput& render, const std::vector<InstanceResult>& results);
 
-/// Writes a frame's images under out_dir/<camera>/. `color` may be empty (no overlay then);
-/// `frame_masks` is StackMasks of the results' packed masks (empty: no mask file).
-void WriteFrameImages(const std::filesystem::path& out_dir, const std::string& camera, int64_t index,
-                      const RenderOutput& render, const std::vector<InstanceResult>& results, const cv::Mat& color,
-                      const cv::Mat& frame_masks, const FrameOutputOptions& options);
+/// Label colours over the RGB image, with each visible box and the object's name.
+cv::Mat OverlayImage(const cv::Mat& color, const RenderOutput& render, const std::vector<InstanceResult>& results);
 
-/// The labels.jsonl record of one instance in one frame (field meanings in docs/labels.md).
-nlohmann::json LabelRecord(const std::string& camera, int64_t index, const CameraFrameRecord& frame,
-                           const InstanceResult& result, bool has_measured_depth);
+/// A full-size 0/255 mask (BOP's mask files) of a mask cropped to `rect`.
+cv::Mat FullMaskImage(const std::vector<uint8_t>& mask, const PixelRect& rect, int width, int height);
+
+/// One labelled camera frame, handed to a LabelSink: the render, each instance's pose, flags, labels
+/// and packed masks, the colour image (only when an overlay is asked for) and the frame's mask image
+/// (StackMasks of the packed masks; empty when none).
+struct LabelledFrame {
+  const std::string& camera;
+  int64_t index = 0;  ///< camera record index
+  const CameraFrameRecord& record;
+  const RenderOutput& render;
+  const std::vector<InstanceResult>& results;
+  const cv::Mat& color;
+  const cv::Mat& frame_masks;
+  bool has_measured_depth = false;
+};
+
+/// Where labelled frames go (pipeline/label_run.h writes them as a label run). The labeller itself knows
+/// no file layout.
+class LabelSink {
+ public:
+  virtual ~LabelSink() = default;
+  /// Called once before any frame, with the cameras that will be labelled.
+  virtual void Begin(const std::vector<std::string>& cameras, const FrameOutputOptions& output) = 0;
+  /// Called from the worker threads, concurrently for different frames, in no particular order.
+  virtual void Write(const LabelledFrame& frame) = 0;
+};
 
 }  // namespace mocap

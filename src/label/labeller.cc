@@ -3,7 +3,6 @@
 #include <atomic>
 #include <chrono>
 #include <exception>
-#include <fstream>
 #include <mutex>
 #include <thread>
 #include <time.h>
@@ -45,33 +44,20 @@ std::vector<ObjectCulling> DecideCulling(const std::vector<LabelObject>& objects
   return decisions;
 }
 
-fs::path PartialDir(const fs::path& out) {
-  fs::path partial = out;
-  partial += ".partial";
-  return partial;
-}
+/// What one labelled frame adds to the summary.
+struct FrameTally {
+  bool labelled = false;  ///< false: outside the range, or its image files are missing
+  int64_t records = 0, records_with_pose = 0;
+  std::vector<std::string> flags;  ///< every instance's flags
+};
 
-fs::path PrepareOutput(const fs::path& out, const std::vector<std::string>& cameras, const FrameOutputOptions& output) {
-  if (fs::exists(out) && !fs::is_empty(out) && !fs::exists(out / "label_manifest.json"))
-    throw InputError(out.string(), "exists and is not an earlier label output; choose another --out");
-  const fs::path partial = PartialDir(out);
-  fs::remove_all(partial);
-  std::vector<std::string> subs = {"instance", "class"};
-  if (output.write_depth) subs.push_back("depth");
-  if (output.write_masks) subs.push_back("mask_bits");
-  if (output.write_bop_masks) subs.insert(subs.end(), {"mask", "mask_visib", "mask_visib_depth"});
-  if (output.write_overlay) subs.push_back("overlay");
-  for (const std::string& camera : cameras)
-    for (const std::string& sub : subs) fs::create_directories(partial / camera / sub);
-  return partial;
-}
-
-/// One camera's frames; each frame's labels.jsonl lines land in lines[index] (empty: frame skipped).
+/// One camera's frames; tallies[index] is filled when frame `index` is labelled.
 struct CameraJob {
   std::string camera;
   std::unique_ptr<PoseChain> chain;
   bool depth_registered = false;
-  std::vector<std::vector<nlohmann::json>> lines;
+  int64_t begin = 0, end = 0;  ///< the frames labelled
+  std::vector<FrameTally> tallies;
 };
 
 /// What a worker keeps between frames: its renderer, the uploaded meshes and the render buffers.
@@ -107,7 +93,7 @@ struct StageClock {
 
 /// Labels one frame with a worker's renderer, adding its time per stage to worker.seconds.
 void LabelFrame(const SessionReader& session, const std::vector<LabelObject>& objects, Worker& worker, CameraJob& job,
-                int64_t index, const LabelOptions& options, const fs::path& out) {
+                int64_t index, const LabelOptions& options, LabelSink& sink) {
   const CameraFrameEntry& entry = session.frame(job.camera, index);
   if (!entry.color_present && !entry.depth_present) return;
   StageClock clock;
@@ -146,11 +132,15 @@ void LabelFrame(const SessionReader& session, const std::vector<LabelObject>& ob
   }
   const cv::Mat frame_masks = StackMasks(stacked);
   clock.Lap(worker, &LabelStageSeconds::labels);
-  WriteFrameImages(out, job.camera, index, worker.render, results, color, frame_masks, options.output);
+  sink.Write({job.camera, index, entry.record, worker.render, results, color, frame_masks, use_depth});
   clock.Lap(worker, &LabelStageSeconds::write);
-  auto& lines = job.lines[static_cast<size_t>(index)];
-  for (const InstanceResult& r : results) lines.push_back(LabelRecord(job.camera, index, entry.record, r, use_depth));
-  clock.Lap(worker, &LabelStageSeconds::labels);
+  FrameTally& tally = job.tallies[static_cast<size_t>(index)];
+  tally.labelled = true;
+  for (const InstanceResult& r : results) {
+    ++tally.records;
+    tally.records_with_pose += r.pose.T_camera_mesh ? 1 : 0;
+    tally.flags.insert(tally.flags.end(), r.pose.flags.begin(), r.pose.flags.end());
+  }
 }
 
 int WorkerCount(const LabelOptions& options, size_t work_items) {
@@ -162,11 +152,11 @@ int WorkerCount(const LabelOptions& options, size_t work_items) {
 /// Runs the workers, each with its own EGL context, over every (camera, frame). Rethrows the first error
 /// of any worker after all have stopped. Fills the summary's stage times and thread count.
 void RunWorkers(const SessionReader& session, const std::vector<LabelObject>& objects, const std::vector<Mesh>& meshes,
-                std::vector<CameraJob>& jobs, const LabelOptions& options, const fs::path& out, Clock::time_point start,
+                std::vector<CameraJob>& jobs, const LabelOptions& options, LabelSink& sink, Clock::time_point start,
                 LabelSummary& summary) {
   std::vector<std::pair<size_t, int64_t>> work;
   for (size_t j = 0; j < jobs.size(); ++j)
-    for (int64_t i = 0; i < static_cast<int64_t>(jobs[j].lines.size()); ++i) work.emplace_back(j, i);
+    for (int64_t i = jobs[j].begin; i < jobs[j].end; ++i) work.emplace_back(j, i);
   std::atomic<size_t> next{0};
   std::atomic<bool> failed{false};
   std::exception_ptr error;
@@ -186,7 +176,7 @@ void RunWorkers(const SessionReader& session, const std::vector<LabelObject>& ob
       const Clock::time_point begin = Clock::now();
       const double begin_cpu = ProcessCpuSeconds();
       for (size_t w = next++; w < work.size() && !failed; w = next++)
-        LabelFrame(session, objects, worker, jobs[work[w].first], work[w].second, options, out);
+        LabelFrame(session, objects, worker, jobs[work[w].first], work[w].second, options, sink);
       const Clock::time_point end = Clock::now();
       const double end_cpu = ProcessCpuSeconds();
       std::lock_guard lock(mutex);
@@ -211,66 +201,21 @@ void RunWorkers(const SessionReader& session, const std::vector<LabelObject>& ob
   summary.frames_cpu_seconds = last_frame_cpu - first_frame_cpu;
 }
 
-void WriteLines(const std::vector<CameraJob>& jobs, const fs::path& file, LabelSummary& summary) {
-  std::ofstream jsonl(file);
+void Tally(const std::vector<CameraJob>& jobs, LabelSummary& summary) {
   for (const CameraJob& job : jobs) {
-    for (const auto& frame_lines : job.lines) {
-      if (frame_lines.empty()) {
+    for (int64_t i = job.begin; i < job.end; ++i) {
+      const FrameTally& t = job.tallies[static_cast<size_t>(i)];
+      if (!t.labelled) {
         ++summary.frames_skipped;
         continue;
       }
       ++summary.frames;
-      bool flagged = false;
-      for (const nlohmann::json& line : frame_lines) {
-        jsonl << line.dump() << '\n';
-        ++summary.records;
-        if (line.contains("rvec")) ++summary.records_with_pose;
-        for (const auto& flag : line["flags"]) {
-          ++summary.flag_counts[flag.get<std::string>()];
-          flagged = true;
-        }
-      }
-      summary.frames_flagged += flagged ? 1 : 0;
+      summary.records += t.records;
+      summary.records_with_pose += t.records_with_pose;
+      for (const std::string& flag : t.flags) ++summary.flag_counts[flag];
+      summary.frames_flagged += t.flags.empty() ? 0 : 1;
     }
   }
-  jsonl.close();
-  if (!jsonl) throw InputError(file.string(), "could not write (disk full or not writable?)");
-}
-
-nlohmann::json StagesJson(const LabelStageSeconds& s) {
-  return {{"render", s.render}, {"read_depth", s.read_depth}, {"labels", s.labels}, {"write", s.write}};
-}
-
-nlohmann::json CullingJson(const std::vector<ObjectCulling>& culling) {
-  nlohmann::json j = nlohmann::json::array();
-  for (const ObjectCulling& c : culling) j.push_back({{"object", c.object}, {"culled", c.culled}, {"reason", c.reason}});
-  return j;
-}
-
-nlohmann::json SummaryJson(const LabelSummary& s, const SessionReader& session) {
-  return {{"session", fs::absolute(session.dir()).string()},
-          {"complete", s.complete},
-          {"frames", s.frames},
-          {"frames_skipped", s.frames_skipped},
-          {"records", s.records},
-          {"records_with_pose", s.records_with_pose},
-          {"frames_flagged", s.frames_flagged},
-          {"flag_counts", s.flag_counts},
-          {"seconds", s.seconds},
-          {"setup_seconds", s.setup_seconds},
-          {"frames_seconds", s.frames_seconds},
-          {"frames_cpu_seconds", s.frames_cpu_seconds},
-          {"render_seconds", s.render_seconds},
-          {"threads", s.threads},
-          {"back_face_culling", CullingJson(s.culling)},
-          {"stage_seconds", StagesJson(s.stages)},
-          {"stage_cpu_seconds", StagesJson(s.stages_cpu)}};
-}
-
-/// Moves the finished output into place: the old output is removed only once the new one is whole.
-void Publish(const fs::path& partial, const fs::path& out) {
-  fs::remove_all(out);
-  fs::rename(partial, out);
 }
 
 }  // namespace
@@ -281,16 +226,17 @@ LabelStageSeconds& LabelStageSeconds::operator+=(const LabelStageSeconds& o) {
 }
 
 void LabelOptions::check() const {
-  if (out_dir.empty()) throw InputError("label", "no output folder given (--out)");
   if (threads < 0) throw InputError("label", "threads must be >= 0");
+  if (frame_begin < 0 || (frame_end >= 0 && frame_end < frame_begin))
+    throw InputError("label", Str("frame range [", frame_begin, ", ", frame_end, ") is not a range"));
   chain.check();
   visibility.check();
   renderer.check();
   context.check();
 }
 
-LabelSummary LabelSession(const SessionReader& session, const std::vector<LabelObject>& objects, const Rig& rig,
-                          const LabelOptions& options) {
+LabelSummary LabelSession(const SessionReader& session, const std::vector<LabelObject>& objects, const LabelRig& rig,
+                          const LabelOptions& options, LabelSink& sink) {
   options.check();
   rig.check("rig");
   if (objects.empty()) throw InputError("objects", "no objects to label");
@@ -302,24 +248,20 @@ LabelSummary LabelSession(const SessionReader& session, const std::vector<LabelO
     for (const CameraStreamInfo& c : session.manifest().cameras) cameras.push_back(c.name);
   std::vector<CameraJob> jobs;
   for (const std::string& camera : cameras) {
-    CameraJob job{camera, std::make_unique<PoseChain>(session, camera, objects, rig, options.chain), false, {}};
+    CameraJob job{camera, std::make_unique<PoseChain>(session, camera, objects, rig, options.chain), false, 0, 0, {}};
     job.depth_registered = session.manifest().FindCamera(camera)->depth_registered_to_color;
-    job.lines.resize(static_cast<size_t>(session.frame_count(camera)));
+    const int64_t frames = session.frame_count(camera);
+    job.begin = std::min(options.frame_begin, frames);
+    job.end = options.frame_end < 0 ? frames : std::min(options.frame_end, frames);
+    job.tallies.resize(static_cast<size_t>(frames));
     jobs.push_back(std::move(job));
   }
-  const fs::path partial = PrepareOutput(options.out_dir, cameras, options.output);
+  sink.Begin(cameras, options.output);
   LabelSummary summary;
   summary.culling = DecideCulling(objects, meshes, options.renderer.back_face_culling);
-  RunWorkers(session, objects, meshes, jobs, options, partial, start, summary);
-  WriteLines(jobs, partial / "labels.jsonl", summary);
+  RunWorkers(session, objects, meshes, jobs, options, sink, start, summary);
+  Tally(jobs, summary);
   summary.seconds = SecondsSince(start);
-  summary.complete = true;
-  summary.out_dir = options.out_dir;
-  std::ofstream manifest(partial / "label_manifest.json");
-  manifest << SummaryJson(summary, session).dump(2) << '\n';
-  manifest.close();
-  if (!manifest) throw InputError((partial / "label_manifest.json").string(), "could not write");
-  Publish(partial, options.out_dir);
   return summary;
 }
 

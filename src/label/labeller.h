@@ -1,9 +1,9 @@
 #pragma once
 // `mocaplabel label`: every camera frame of a session, every object instance: the pose through the rig's
 // chain of transforms, a render of all meshes, masks and statistics, written as files (label_output.h).
-// Frames are processed in parallel, one EGL context per worker thread. The output is written into
-// <out>.partial and renamed to <out> only when complete, so a crash or an error never leaves a partial
-// output that looks complete.
+// Frames are processed in parallel, one EGL context per worker thread, and handed to a LabelSink; the
+// pipeline's label run writer (pipeline/label_run.h) writes them into <out>.partial and publishes the
+// run whole, so a crash or an error never leaves a partial output that looks complete.
 #include <filesystem>
 #include <map>
 #include <string>
@@ -21,9 +21,11 @@
 namespace mocap {
 
 struct LabelOptions {
-  std::filesystem::path out_dir;     ///< replaced when it holds an earlier label run (label_manifest.json)
   std::vector<std::string> cameras;  ///< cameras to label; empty = every camera of the session
   int threads = 0;                   ///< worker threads; 0 = one per core
+  /// The frames labelled, by camera record index: [frame_begin, frame_end) of every camera (a shard);
+  /// frame_end -1 = to the end.
+  int64_t frame_begin = 0, frame_end = -1;
   FrameOutputOptions output;
   PoseChainOptions chain;
   VisibilityOptions visibility;
@@ -55,7 +57,7 @@ struct ObjectCulling {
 };
 
 struct LabelSummary {
-  int64_t frames = 0;             ///< camera records labelled (colour or depth present)
+  int64_t frames = 0;             ///< camera records labelled (colour or depth present), in the frame range
   int64_t frames_skipped = 0;     ///< records whose image files are missing
   int64_t records = 0;            ///< labels.jsonl lines (frames x instances)
   int64_t records_with_pose = 0;
@@ -76,14 +78,11 @@ struct LabelSummary {
   LabelStageSeconds stages_cpu;   ///< CPU time of the worker threads per stage
   int threads = 0;                ///< worker threads used
   std::vector<ObjectCulling> culling;  ///< per object, in the objects' order
-  std::filesystem::path out_dir;
-  bool complete = false;
 };
 
-/// Throws InputError for an unusable output folder, a mesh that cannot be loaded or whose extent does not
-/// fit its declared unit, an unknown camera, or a failed write (the partial output is left in
-/// <out>.partial, never at <out>).
-LabelSummary LabelSession(const SessionReader& session, const std::vector<LabelObject>& objects, const Rig& rig,
-                          const LabelOptions& options);
+/// Labels the session's frames into `sink`. Throws InputError for a mesh that cannot be loaded or whose
+/// extent does not fit its declared unit, an unknown camera, or an error of the sink (a failed write).
+LabelSummary LabelSession(const SessionReader& session, const std::vector<LabelObject>& objects, const LabelRig& rig,
+                          const LabelOptions& options, LabelSink& sink);
 
 }  // namespace mocap

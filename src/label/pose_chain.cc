@@ -43,12 +43,12 @@ void PoseChain::AddBody(const SessionReader& session, const std::string& body) {
 }
 
 PoseChain::PoseChain(const SessionReader& session, const std::string& camera, const std::vector<LabelObject>& objects,
-                     const Rig& rig, const PoseChainOptions& options)
+                     const LabelRig& rig, const PoseChainOptions& options)
     : camera_name_(camera), options_(options), latency_ns_(rig.tracker_latency_ns), graph_(options.interpolation) {
   options_.check();
   const CameraStreamInfo* info = session.manifest().FindCamera(camera);
   if (info == nullptr) throw InputError(session.dir().string(), Str("the session has no camera '", camera, "'"));
-  const RigCamera* rig_camera = rig.Find(camera);
+  const LabelRigCamera* rig_camera = rig.Find(camera);
   camera_ = rig_camera && rig_camera->color_camera ? *rig_camera->color_camera : info->color_camera;
   const std::string body = rig_camera && rig_camera->body ? *rig_camera->body : info->camera_body;
   if (!body.empty()) {

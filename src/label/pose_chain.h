@@ -46,7 +46,7 @@ class PoseChain {
   /// Throws InputError when the camera is not in the session, or the camera body is named but not
   /// reported by any tracker in the session.
   PoseChain(const SessionReader& session, const std::string& camera, const std::vector<LabelObject>& objects,
-            const Rig& rig, const PoseChainOptions& options = {});
+            const LabelRig& rig, const PoseChainOptions& options = {});
 
   const PinholeCamera& camera() const { return camera_; }
   const std::vector<LabelInstance>& instances() const { return instances_; }

@@ -6,9 +6,9 @@
 
 namespace mocap {
 
-void Rig::check(const std::string& where) const {
+void LabelRig::check(const std::string& where) const {
   std::set<std::string> seen;
-  for (const RigCamera& c : cameras) {
+  for (const LabelRigCamera& c : cameras) {
     if (c.camera.empty()) throw InputError(where, "a rig camera has no name");
     if (!seen.insert(c.camera).second) throw InputError(where, Str("camera '", c.camera, "' appears twice"));
     if (c.color_camera) c.color_camera->check();
@@ -16,8 +16,8 @@ void Rig::check(const std::string& where) const {
   }
 }
 
-const RigCamera* Rig::Find(const std::string& camera) const {
-  for (const RigCamera& c : cameras)
+const LabelRigCamera* LabelRig::Find(const std::string& camera) const {
+  for (const LabelRigCamera& c : cameras)
     if (c.camera == camera) return &c;
   return nullptr;
 }

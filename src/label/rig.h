@@ -1,5 +1,5 @@
 #pragma once
-// Calibration of a rig, as the labeller applies it (docs/rig.md). Every field is optional: what is not
+// The labeller's view of a rig (pipeline/rig.h derives it from rig.yaml; docs/rig.md). Every field is optional: what is not
 // given comes from the session's manifest (the calibration it was recorded with), so re-labelling after
 // a calibration fix is `mocaplabel label S --rig calib/new.yaml`.
 #include <cstdint>
@@ -12,22 +12,22 @@
 
 namespace mocap {
 
-struct RigCamera {
+struct LabelRigCamera {
   std::string camera;                         ///< camera stream name in the session
   std::optional<PinholeCamera> color_camera;  ///< intrinsics of the colour stream
   std::optional<std::string> body;            ///< tracker body carrying the camera
   std::optional<Rigid3d> T_body_camera;       ///< camera mount: colour optical frame into the body frame
 };
 
-struct Rig {
+struct LabelRig {
   std::string name;
-  std::vector<RigCamera> cameras;
+  std::vector<LabelRigCamera> cameras;
   /// Tracker-to-camera latency: a camera frame stamped t shows the scene the tracker reports at
   /// t + tracker_latency_ns (positive when the tracker's stamps lag the camera's).
   int64_t tracker_latency_ns = 0;
   /// Throws InputError naming `where` on duplicate cameras or invalid intrinsics.
   void check(const std::string& where) const;
-  const RigCamera* Find(const std::string& camera) const;
+  const LabelRigCamera* Find(const std::string& camera) const;
 };
 
 }  // namespace mocap

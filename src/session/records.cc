@@ -1,11 +1,19 @@
 #include "session/records.h"
 
+#include <cstdio>
+
 #include "core/check.h"
 #include "session/json_fields.h"
 #include "session/manifest.h"
 
 namespace mocap {
 using namespace json_fields;
+
+std::string FrameFileStem(int64_t index) {
+  char name[32];
+  std::snprintf(name, sizeof(name), "%06lld", static_cast<long long>(index));
+  return name;
+}
 
 bool CarriesPose(PoseStatus status) { return status != PoseStatus::kMissing && status != PoseStatus::kDisabled; }
 

@@ -51,6 +51,10 @@ struct EventRecord {
 /// sample still reports a transform; HasPose() decides whether it may be used).
 bool CarriesPose(PoseStatus status);
 
+/// "000123": the file stem of a camera record's images (the record's position in its stream), and of
+/// every per-frame file that later stages write for it (label runs, the simulator's truth).
+std::string FrameFileStem(int64_t index);
+
 nlohmann::json ToJson(const CameraFrameRecord& record);
 nlohmann::json ToJson(const TrackerRecord& record);
 nlohmann::json ToJson(const EventRecord& record);

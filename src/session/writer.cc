@@ -54,12 +54,6 @@ std::string NowUtcIso() {
   return text;
 }
 
-std::string IndexName(int64_t index) {
-  char name[32];
-  std::snprintf(name, sizeof(name), "%06lld", static_cast<long long>(index));
-  return name;
-}
-
 /// Moves a finished temporary file into place; the record is appended only after this.
 void RenameIntoPlace(const fs::path& temp, const fs::path& path) {
   if (::rename(temp.c_str(), path.c_str()) != 0) {
@@ -314,8 +308,8 @@ void SessionWriter::WriteCameraFrame(const std::string& camera, const CameraFram
   const std::string color_ext = options.color_encoding == ColorEncoding::kJpeg ? ".jpg" : ".png";
   const std::string depth_ext = options.depth_encoding == DepthEncoding::kExr ? ".exr" : ".png";
   CameraFrameRecord out = record;
-  out.color_file = color.empty() ? "" : "color/" + IndexName(index) + color_ext;
-  out.depth_file = depth.empty() ? "" : "depth/" + IndexName(index) + depth_ext;
+  out.color_file = color.empty() ? "" : "color/" + FrameFileStem(index) + color_ext;
+  out.depth_file = depth.empty() ? "" : "depth/" + FrameFileStem(index) + depth_ext;
   job->work = [out, camera_dir, options, color = color.clone(), depth = depth.clone(), unit = info->depth_unit_m,
                color_ext, depth_ext]() {
     if (!color.empty()) {
@@ -352,8 +346,8 @@ void SessionWriter::AddCameraFrameFiles(const std::string& camera, const CameraF
     index = impl_->next_index[camera]++;
   }
   CameraFrameRecord out = record;
-  out.color_file = color_source.empty() ? "" : "color/" + IndexName(index) + ImportExtension(color_source, false);
-  out.depth_file = depth_source.empty() ? "" : "depth/" + IndexName(index) + ImportExtension(depth_source, true);
+  out.color_file = color_source.empty() ? "" : "color/" + FrameFileStem(index) + ImportExtension(color_source, false);
+  out.depth_file = depth_source.empty() ? "" : "depth/" + FrameFileStem(index) + ImportExtension(depth_source, true);
   const fs::path camera_dir = impl_->dir / "cameras" / camera;
   job->work = [out, camera_dir, color_source, depth_source]() {
     // A listed source that does not exist stays listed but absent: readers count it as missing.

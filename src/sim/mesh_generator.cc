@@ -6,7 +6,7 @@
 
 #include "core/check.h"
 #include "sim/mesh_check.h"
-#include "sim/object_library.h"
+#include "sim/sim_objects.h"
 #include "sim/ply_writer.h"
 
 namespace mocap::sim {
@@ -189,9 +189,6 @@ std::vector<std::string> WriteMeshLibrary(const std::string& out_dir) {
     WritePlyBinary(path, generated.mesh, Str("mocaplabel procedural model '", generated.name, "', unit: metre"));
     written.push_back(path);
   }
-  const std::string yaml_path = (std::filesystem::path(out_dir) / "objects.yaml").string();
-  WriteTextFile(yaml_path, EncodeObjectsYaml(DefaultObjectLibrary()));
-  written.push_back(yaml_path);
   return written;
 }
 

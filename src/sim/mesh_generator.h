@@ -32,8 +32,9 @@ struct GeneratedMesh {
 /// Every mesh above, in a fixed order.
 std::vector<GeneratedMesh> GenerateAllMeshes();
 
-/// Writes each mesh as `<out_dir>/<name>.ply` and the library as `<out_dir>/objects.yaml`; returns the
-/// paths written. Throws InputError when the folder cannot be created or written.
+/// Writes each mesh as `<out_dir>/<name>.ply`; returns the paths written. The library's objects.yaml
+/// is written beside them by the pipeline (pipeline/record_stage.h), the one writer of that format.
+/// Throws InputError when the folder cannot be written.
 std::vector<std::string> WriteMeshLibrary(const std::string& out_dir);
 
 }  // namespace mocap::sim

@@ -54,7 +54,7 @@ void ScenarioOptions::check() const {
       throw InputError(Str("errors.object_mounts[", mount.object, "]"), "implausibly large (> 0.5 m or > 45 deg)");
 }
 
-void Scenario::check(const ObjectLibrary& library, const std::string& where) const {
+void Scenario::check(const SimObjects& library, const std::string& where) const {
   options.check();
   if (objects.empty()) throw InputError(where, "scenario without objects");
   std::set<std::string> names;

@@ -12,7 +12,7 @@
 #include "core/rigid3.h"
 #include "sim/kinect1_model.h"
 #include "sim/kinect2_model.h"
-#include "sim/object_library.h"
+#include "sim/sim_objects.h"
 #include "sim/tracker_options.h"
 
 namespace mocap::sim {
@@ -102,7 +102,7 @@ struct Scenario {
   Rigid3d T_cambody_camera;        ///< true camera mount
   /// Throws InputError naming `where` and the offending entry (times not increasing, empty motions,
   /// unknown objects in `library`, errors naming objects not in the scene).
-  void check(const ObjectLibrary& library, const std::string& where) const;
+  void check(const SimObjects& library, const std::string& where) const;
 };
 
 /// The embedded default: ~300 frames at 30 Hz, the oil bottle, funnel and engine block on a table,

@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "core/pose_stream.h"
-#include "sim/object_library.h"
+#include "sim/sim_objects.h"
 #include "sim/rng.h"
 #include "sim/tracker_options.h"
 

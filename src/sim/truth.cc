@@ -36,11 +36,11 @@ std::vector<OccluderBox> OccludersInTracker(const SceneMotion& motion, const Rig
 
 int64_t NsFromSeconds(double t_s) { return std::llround(t_s * 1e9); }
 
-RigCalibration TrueCalibration(const Scenario& scenario, const ObjectLibrary& library) {
+RigCalibration TrueCalibration(const Scenario& scenario, const SimObjects& library) {
   RigCalibration calibration;
   calibration.T_cambody_camera = scenario.T_cambody_camera;
   for (const ScenarioObject& object : scenario.objects) {
-    const ObjectSpec* spec = library.Find(object.name);
+    const SimObject* spec = library.Find(object.name);
     MOCAP_CHECK(spec != nullptr, "object ", object.name, " missing from the library (scenario not checked?)");
     calibration.objects.push_back(object.name);
     calibration.T_objbody_mesh.push_back(spec->T_body_mesh);
@@ -70,7 +70,7 @@ RigCalibration ApplyCalibrationErrors(const RigCalibration& truth, const Calibra
   return given;
 }
 
-SimulationTruth ComputeTruth(const SceneMotion& motion, const ObjectLibrary& library) {
+SimulationTruth ComputeTruth(const SceneMotion& motion, const SimObjects& library) {
   const Scenario& scenario = motion.scenario();
   SimulationTruth truth;
   truth.true_calibration = TrueCalibration(scenario, library);
@@ -110,7 +110,7 @@ SimulationTruth ComputeTruth(const SceneMotion& motion, const ObjectLibrary& lib
   return truth;
 }
 
-std::vector<BodyStream> SimulateTrackerStreams(const SceneMotion& motion, const ObjectLibrary& library) {
+std::vector<BodyStream> SimulateTrackerStreams(const SceneMotion& motion, const SimObjects& library) {
   const Scenario& scenario = motion.scenario();
   const TrackerOptions& tracker = scenario.options.tracker;
   const Rigid3d T_tracker_world = tracker.T_world_tracker.inverse();

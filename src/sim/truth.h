@@ -63,16 +63,16 @@ struct SimulationTruth {
 int64_t NsFromSeconds(double t_s);
 
 /// The true calibration of the scenario's rig.
-RigCalibration TrueCalibration(const Scenario& scenario, const ObjectLibrary& library);
+RigCalibration TrueCalibration(const Scenario& scenario, const SimObjects& library);
 /// `truth` with `errors` applied: mount errors compose on the body side (T_body_x * error), latency adds,
 /// the focal length scales and the principal point shifts (colour and depth camera alike).
 RigCalibration ApplyCalibrationErrors(const RigCalibration& truth, const CalibrationErrors& errors);
 
 /// Per-frame truth of the whole scenario. Precondition: scenario.check(library) passed.
-SimulationTruth ComputeTruth(const SceneMotion& motion, const ObjectLibrary& library);
+SimulationTruth ComputeTruth(const SceneMotion& motion, const SimObjects& library);
 
 /// Tracker streams of every body (the camera tool first, then each object in scenario order), sampled
 /// at the tracker rate over the recording plus half a second either side, stamped on the host clock.
-std::vector<BodyStream> SimulateTrackerStreams(const SceneMotion& motion, const ObjectLibrary& library);
+std::vector<BodyStream> SimulateTrackerStreams(const SceneMotion& motion, const SimObjects& library);
 
 }  // namespace mocap::sim

@@ -6,7 +6,7 @@
 #include <map>
 #include <sstream>
 
-#include "validate/validation_output.h"
+#include "validate/report_html.h"
 
 namespace mocap {
 namespace {

@@ -11,6 +11,7 @@
 
 #include "core/check.h"
 #include "render/mesh.h"
+#include "session/records.h"
 #include "validate/rendered_crop.h"
 
 namespace mocap {
@@ -18,11 +19,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string Stem(int64_t index) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%06lld", static_cast<long long>(index));
-  return buffer;
-}
+std::string Stem(int64_t index) { return FrameFileStem(index); }
 
 /// A label PNG (8- or 16-bit, one channel). Throws InputError naming the file.
 LabelImage ReadLabelPng(const fs::path& path) {
@@ -56,7 +53,7 @@ fs::path UserMaskPath(const SessionReader& session, const fs::path& dir, const s
   return dir / (Stem(index) + ".png");
 }
 
-FrameInputs LoadFrame(const SessionReader& session, const std::string& camera, int64_t index,
+FrameInputs LoadFrame(const SessionReader& session, const LabelRunView& labels, const std::string& camera, int64_t index,
                       const SessionCheckOptions& options) {
   FrameInputs in;
   const CameraFrameEntry& entry = session.frame(camera, index);
@@ -80,10 +77,10 @@ FrameInputs LoadFrame(const SessionReader& session, const std::string& camera, i
       problem = e.what();
     }
   };
-  load(options.labels_dir / camera / "instance" / (Stem(index) + ".png"), in.label_mask, in.label_mask_problem);
+  load(labels.instance_png(camera, index), in.label_mask, in.label_mask_problem);
   if (!options.masks_dir.empty())
     load(UserMaskPath(session, options.masks_dir, camera, index), in.user_mask, in.user_mask_problem);
-  const fs::path overlay = options.labels_dir / camera / "overlay" / (Stem(index) + ".png");
+  const fs::path overlay = labels.overlay_png(camera, index);
   if (fs::exists(overlay)) in.overlay = overlay;
   return in;
 }
@@ -183,10 +180,10 @@ void Score(const FrameInputs& in, const SessionCheckOptions& options, RecordChec
 }
 
 /// One frame's records, each checked on its own.
-void CheckFrame(const SessionReader& session, const std::map<int, ObjectModel>& models,
+void CheckFrame(const SessionReader& session, const LabelRunView& labels, const std::map<int, ObjectModel>& models,
                 const SessionCheckOptions& options, std::vector<RecordCheck>& records, const std::vector<size_t>& group) {
   const RecordCheck& first = records[group.front()];
-  const FrameInputs in = LoadFrame(session, first.camera, first.index, options);
+  const FrameInputs in = LoadFrame(session, labels, first.camera, first.index, options);
   const PinholeCamera& camera = session.manifest().FindCamera(first.camera)->color_camera;
   for (size_t i : group) {
     RecordCheck& r = records[i];
@@ -203,7 +200,7 @@ void CheckFrame(const SessionReader& session, const std::map<int, ObjectModel>& 
 }
 
 /// One instance's records in frame order through its own tracker.
-void CheckTrack(const SessionReader& session, const std::map<int, ObjectModel>& models,
+void CheckTrack(const SessionReader& session, const LabelRunView& labels, const std::map<int, ObjectModel>& models,
                 const SessionCheckOptions& options, std::vector<RecordCheck>& records, std::vector<size_t> group) {
   std::sort(group.begin(), group.end(), [&](size_t a, size_t b) { return records[a].index < records[b].index; });
   const ObjectModel& model = models.at(records[group.front()].object);
@@ -211,7 +208,7 @@ void CheckTrack(const SessionReader& session, const std::map<int, ObjectModel>& 
   int64_t last_stamp_ns = 0;
   for (size_t i : group) {
     RecordCheck& r = records[i];
-    const FrameInputs in = LoadFrame(session, r.camera, r.index, options);
+    const FrameInputs in = LoadFrame(session, labels, r.camera, r.index, options);
     const PinholeCamera& camera = session.manifest().FindCamera(r.camera)->color_camera;
     const RecordMask mask = MaskOf(in, r, options);
     if (auto bad = InputProblem(in, mask, camera)) {
@@ -239,20 +236,23 @@ void SessionCheckOptions::check() const {
     throw InputError(masks_dir.string(), "mask folder does not exist (--masks)");
   if (threads < 0) throw InputError("validate", "threads must be >= 0");
   if (frame_stride < 1) throw InputError("validate", "frame stride must be >= 1");
+  if (frame_begin < 0 || (frame_end >= 0 && frame_end < frame_begin))
+    throw InputError("validate", Str("frame range [", frame_begin, ", ", frame_end, ") is not a range"));
   validate.check();
   context.check();
 }
 
 SessionValidation CheckSession(const SessionReader& session, const std::vector<ValidationObject>& objects,
-                               const SessionCheckOptions& options) {
+                               LabelRunView labels, const SessionCheckOptions& options) {
   options.check();
+  MOCAP_CHECK(labels.instance_png && labels.overlay_png, "a label run view without its file paths");
   const auto start = std::chrono::steady_clock::now();
-  LabelRecordsFile file = ReadLabelRecords(options.labels_dir);
-  std::vector<RecordCheck>& records = file.records;
+  std::vector<RecordCheck>& records = labels.records;
   const auto skipped = std::erase_if(records, [&](const RecordCheck& r) {
-    return r.index % options.frame_stride != 0 || std::ranges::count(options.skip_objects, r.object) > 0;
+    return r.index % options.frame_stride != 0 || std::ranges::count(options.skip_objects, r.object) > 0 ||
+           r.index < options.frame_begin || (options.frame_end >= 0 && r.index >= options.frame_end);
   });
-  file.total -= static_cast<int64_t>(skipped);
+  labels.total -= static_cast<int64_t>(skipped);
   for (const RecordCheck& r : records) {
     if (!session.manifest().FindCamera(r.camera))
       throw InputError(Str("labels.jsonl camera \"", r.camera, "\""), "not in the session; is it the session the labels came from?");
@@ -265,18 +265,18 @@ SessionValidation CheckSession(const SessionReader& session, const std::vector<V
     if (options.track) {
       const auto groups = GroupBy(records, [](const RecordCheck& r) { return std::make_pair(r.camera, r.instance); });
       ParallelFor(static_cast<int>(groups.size()), options.threads,
-                  [&](int g) { CheckTrack(session, models, options, records, groups[g]); });
+                  [&](int g) { CheckTrack(session, labels, models, options, records, groups[g]); });
     } else {
       const auto groups = GroupBy(records, [](const RecordCheck& r) { return std::make_pair(r.camera, r.index); });
       ParallelFor(static_cast<int>(groups.size()), options.threads,
-                  [&](int g) { CheckFrame(session, models, options, records, groups[g]); });
+                  [&](int g) { CheckFrame(session, labels, models, options, records, groups[g]); });
     }
   }
   for (RecordCheck& r : records) {
     const auto it = std::find_if(objects.begin(), objects.end(), [&](const auto& o) { return o.id == r.object; });
     if (it != objects.end() && it->symmetry) ApplySymmetry(r.T_camera_object_label, *it->symmetry, options.validate, &r.check);
   }
-  out.summary = Summarise(records, file.total);
+  out.summary = Summarise(records, labels.total);
   out.summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   out.records = std::move(records);
   return out;

@@ -6,6 +6,7 @@
 // label masks are measured too.
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <optional>
 #include <string>
@@ -40,7 +41,7 @@ enum class CropBackend {
 };
 
 struct SessionCheckOptions {
-  /// The label run's folder (labels.jsonl, <camera>/instance/NNNNNN.png).
+  /// The label run's folder, named in the outputs (the records and files come in a LabelRunView).
   std::filesystem::path labels_dir;
   /// User masks: DIR/<camera>/NNNNNN.png, or DIR/NNNNNN.png for a single-camera session; 8- or 16-bit
   /// single channel, 0 = background. Empty: the label run's instance PNGs.
@@ -52,10 +53,12 @@ struct SessionCheckOptions {
   /// on its own (CheckLabelInFrame, seeded as validate.check_seed says).
   bool track = false;
   int threads = 0;  ///< worker threads; 0 = OpenMP's default
-  /// Checks only the records of frames whose stream index is a multiple of this (1: every frame). The
+  /// Only the records of frames [frame_begin, frame_end) are checked (a shard; -1: to the end), and of
+  /// those only frames whose stream index is a multiple of `frame_stride` (1: every frame). The
   /// records with a pose of the other frames are left out of the result and of `records`; pose-less
   /// records are counted over all frames. For quick checks of long sessions (the demo).
   int frame_stride = 1;
+  int64_t frame_begin = 0, frame_end = -1;
   /// Object ids whose records are left out like the skipped frames' (objects the check cannot verify).
   std::vector<int> skip_objects;
   ValidateOptions validate;
@@ -110,19 +113,20 @@ struct SessionValidation {
   ValidationSummary summary;
 };
 
+/// What the check needs of a label run (pipeline/label_run.h reads runs and fills it): its records with a
+/// pose, how many records it has in all, and where its per-frame files are.
+struct LabelRunView {
+  std::vector<RecordCheck> records;  ///< identity and label pose filled, checks empty
+  int64_t total = 0;                 ///< every record, with a pose or not
+  std::function<std::filesystem::path(const std::string& camera, int64_t index)> instance_png, overlay_png;
+};
+
 /// Checks every record of the label run against `session`. `objects` must cover every object id of
 /// labels.jsonl. Bad frames (no depth, unreadable or missing masks, masks of the wrong size, too few
 /// points) give suspect verdicts with reasons; throws InputError only for unusable inputs as a whole
-/// (missing labels.jsonl, a record naming an unknown object or camera, a mesh that cannot be loaded).
+/// (a record naming an unknown object or camera, a mesh that cannot be loaded).
 SessionValidation CheckSession(const SessionReader& session, const std::vector<ValidationObject>& objects,
-                               const SessionCheckOptions& options);
-
-/// Reads a label run's labels.jsonl (records without a pose are counted, not returned).
-struct LabelRecordsFile {
-  std::vector<RecordCheck> records;  ///< identity and label pose filled, checks empty
-  int64_t total = 0;
-};
-LabelRecordsFile ReadLabelRecords(const std::filesystem::path& labels_dir);
+                               LabelRunView labels, const SessionCheckOptions& options);
 
 /// Fills the summary from the record checks.
 ValidationSummary Summarise(const std::vector<RecordCheck>& records, int64_t total_records);

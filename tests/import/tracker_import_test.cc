@@ -2,6 +2,8 @@
 // import; the INVALID frame shows as missing and as a source_status event) and of the BOP importer.
 #include <yaml-cpp/yaml.h>
 
+#include "tests/pipeline/label_run_testing.h"
+
 #include <opencv2/imgcodecs.hpp>
 
 #include "session/import/bop_import.h"
@@ -105,7 +107,7 @@ TEST(BopImport, KnownObjectPosesPerFrameAndObjectList) {
   ScratchDir scratch;
   const auto scene_dir = RealData("bop_lmo_scene2/test/000002");
   const auto models_dir = RealData("bop_lmo_scene2/models");
-  const auto summary = ImportBop(scene_dir, models_dir, scratch.path() / "S");
+  const auto summary = ImportBop(scene_dir, models_dir, scratch.path() / "S", BopOptions());
   EXPECT_EQ(summary.camera_records, 10);
   EXPECT_EQ(summary.frames_color_only, 10);
   const BopScene scene = ReadBopScene(scene_dir, models_dir);
@@ -169,7 +171,7 @@ TEST(BopImport, VaryingIntrinsicsSplitCamerasAndInstancesGetTheirOwnBodies) {
     cv::imwrite((scene / "rgb" / ("00000" + std::to_string(id) + ".png")).string(), cv::Mat(6, 8, CV_8UC3, cv::Scalar(id, 2, 3)));
     cv::imwrite((scene / "depth" / ("00000" + std::to_string(id) + ".png")).string(), cv::Mat(6, 8, CV_16UC1, cv::Scalar(9000)));
   }
-  const auto summary = ImportBop(scene, scratch.path() / "models", scratch.path() / "S");
+  const auto summary = ImportBop(scene, scratch.path() / "models", scratch.path() / "S", BopOptions());
   EXPECT_EQ(summary.frames_with_color_and_depth, 3);
   const SessionReader reader = SessionReader::Open(scratch.path() / "S");
   const auto& manifest = reader.manifest();
@@ -194,7 +196,7 @@ TEST(BopImport, VaryingIntrinsicsSplitCamerasAndInstancesGetTheirOwnBodies) {
 
 TEST(BopImport, EmptyOrBadSceneIsRefused) {
   ScratchDir scratch;
-  EXPECT_THAT(InputErrorOf([&] { ImportBop(scratch.path() / "nothing", RealData("bop_lmo_scene2/models"), scratch.path() / "S"); }),
+  EXPECT_THAT(InputErrorOf([&] { ImportBop(scratch.path() / "nothing", RealData("bop_lmo_scene2/models"), scratch.path() / "S", BopOptions()); }),
               HasSubstr("not a folder"));
   EXPECT_THAT(InputErrorOf([&] { ImportMotive(scratch.Write("x.csv", "Format Version,1.24\n"), scratch.path() / "S"); }),
               HasSubstr("x.csv"));

@@ -8,7 +8,7 @@
 #include <fstream>
 #include <map>
 
-#include "cli/objects_yaml.h"
+#include "tests/pipeline/label_run_testing.h"
 #include "label/labeller.h"
 #include "labeller_test_util.h"
 #include "session/import/bop_import.h"
@@ -20,14 +20,14 @@ const std::filesystem::path kScene = std::filesystem::path(MOCAP_SHARED_DIR) / "
 
 TEST(LabellerBop, ImportedSceneMatchesSceneGtInfo) {
   const auto dir = testing::FreshDir("bop");
-  import::ImportBop(kScene / "test/000002", kScene / "models", dir / "S");
+  import::ImportBop(kScene / "test/000002", kScene / "models", dir / "S", BopOptions());
   const SessionReader session = SessionReader::Open(dir / "S");
-  LabelOptions options;
+  LabelRunOptions options;
   options.out_dir = dir / "L";
   options.threads = 2;
   options.output.write_overlay = true;
   options.output.write_bop_masks = true;
-  const LabelSummary summary = LabelSession(session, cli::LoadObjectsYaml(dir / "S" / "objects.yaml"), Rig{}, options);
+  const LabelSummary summary = LabelSession(session, ReadLabelObjects(dir / "S" / "objects.yaml"), LabelRig{}, options);
   EXPECT_EQ(summary.frames, 10);
 
   std::ifstream gt_file(kScene / "test/000002/scene_gt.json"), info_file(kScene / "test/000002/scene_gt_info.json");

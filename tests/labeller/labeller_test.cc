@@ -10,7 +10,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "cli/objects_yaml.h"
+#include "tests/pipeline/label_run_testing.h"
 #include "core/check.h"
 #include "labeller_test_util.h"
 
@@ -29,8 +29,8 @@ LabelObject MarkerObject(const std::filesystem::path& dir, const testing::Synthe
           .unit_scale_to_m = 1.0, .mounts = {{"objbody", rig.T_objbody_mesh}}};
 }
 
-LabelOptions Options(const std::filesystem::path& out) {
-  LabelOptions options;
+LabelRunOptions Options(const std::filesystem::path& out) {
+  LabelRunOptions options;
   options.out_dir = out;
   options.threads = 2;
   options.output.write_overlay = true;
@@ -44,12 +44,12 @@ TEST(Labeller, BackFaceCullingPerObject) {
   const testing::SyntheticRig rig;
   rig.WriteSession(dir / "S", 1);
   std::vector<LabelObject> objects = {MarkerObject(dir, rig)};
-  const LabelSummary automatic = LabelSession(SessionReader::Open(dir / "S"), objects, Rig{}, Options(dir / "L"));
+  const LabelSummary automatic = LabelSession(SessionReader::Open(dir / "S"), objects, LabelRig{}, Options(dir / "L"));
   ASSERT_EQ(automatic.culling.size(), 1u);
   EXPECT_FALSE(automatic.culling[0].culled);
   EXPECT_NE(automatic.culling[0].reason.find("auto: 4 boundary edges"), std::string::npos) << automatic.culling[0].reason;
   objects[0].back_face_culling = BackFaceCulling::kAlways;
-  const LabelSummary forced = LabelSession(SessionReader::Open(dir / "S"), objects, Rig{}, Options(dir / "L"));
+  const LabelSummary forced = LabelSession(SessionReader::Open(dir / "S"), objects, LabelRig{}, Options(dir / "L"));
   EXPECT_TRUE(forced.culling[0].culled);
   std::ifstream manifest(dir / "L" / "label_manifest.json");
   const auto json = nlohmann::json::parse(manifest);
@@ -57,10 +57,10 @@ TEST(Labeller, BackFaceCullingPerObject) {
 
   std::ofstream(dir / "objects.yaml") << "objects:\n  - {id: 7, name: marker, mesh: marker.obj, unit: m, "
                                           "tracker_body: objbody, cull_back_faces: never}\n";
-  EXPECT_EQ(cli::LoadObjectsYaml(dir / "objects.yaml")[0].back_face_culling, BackFaceCulling::kNever);
+  EXPECT_EQ(ReadLabelObjects(dir / "objects.yaml")[0].back_face_culling, BackFaceCulling::kNever);
   std::ofstream(dir / "objects.yaml") << "objects:\n  - {id: 7, name: marker, mesh: marker.obj, unit: m, "
                                           "tracker_body: objbody, cull_back_faces: yes}\n";
-  EXPECT_THROW(cli::LoadObjectsYaml(dir / "objects.yaml"), InputError);
+  EXPECT_THROW(ReadLabelObjects(dir / "objects.yaml"), InputError);
 }
 
 TEST(Labeller, PoseConventionsEndToEnd) {
@@ -70,7 +70,7 @@ TEST(Labeller, PoseConventionsEndToEnd) {
   const testing::SyntheticRig rig;
   rig.WriteSession(dir / "S", 3);
   const std::vector<LabelObject> objects = {MarkerObject(dir, rig)};
-  const LabelSummary summary = LabelSession(SessionReader::Open(dir / "S"), objects, Rig{}, Options(dir / "L"));
+  const LabelSummary summary = LabelSession(SessionReader::Open(dir / "S"), objects, LabelRig{}, Options(dir / "L"));
   ASSERT_TRUE(summary.complete);
   EXPECT_EQ(summary.frames, 3);
   EXPECT_EQ(summary.records_with_pose, 3);
@@ -120,9 +120,9 @@ TEST(Labeller, PackedMasksEqualTheBopStyleMasks) {
   cv::Mat depth(cam.height, cam.width, CV_16UC1, cv::Scalar(0));
   for (int u = 0; u < cam.width; u += 2) depth.col(u).setTo(700);
   rig.WriteSession(dir / "S", 2, -1, -1, depth);
-  LabelOptions options = Options(dir / "L");
+  LabelRunOptions options = Options(dir / "L");
   options.output.write_bop_masks = true;
-  LabelSession(SessionReader::Open(dir / "S"), {MarkerObject(dir, rig)}, Rig{}, options);
+  LabelSession(SessionReader::Open(dir / "S"), {MarkerObject(dir, rig)}, LabelRig{}, options);
   const auto lines = ReadJsonLines(dir / "L" / "labels.jsonl");
   ASSERT_EQ(lines.size(), 2u);
   EXPECT_EQ(lines[0]["visib_source"], "measured_depth");
@@ -142,7 +142,7 @@ TEST(Labeller, ClassImageHoldsEachInstancePixelsObjectId) {
   LabelObject second = MarkerObject(dir, rig);
   second.id = 9, second.name = "second";
   second.mounts[0] = {"cambody", rig.T_cambody_camera * rig.T_camera_mesh * Rigid3d::FromRvec({0, 0, 0}, {0.03, 0, 0})};
-  LabelSession(SessionReader::Open(dir / "S"), {MarkerObject(dir, rig), second}, Rig{}, Options(dir / "L"));
+  LabelSession(SessionReader::Open(dir / "S"), {MarkerObject(dir, rig), second}, LabelRig{}, Options(dir / "L"));
   std::map<int, int> object_of_instance;
   for (const auto& line : ReadJsonLines(dir / "L" / "labels.jsonl")) object_of_instance[line["instance"]] = line["object"];
   ASSERT_EQ(object_of_instance.size(), 2u);
@@ -167,7 +167,7 @@ TEST(Labeller, TrackerDropoutIsFlaggedNotFilled) {
   // Frame 1 is stamped 53 ms: its object samples (50 and 60 ms) are missing.
   rig.WriteSession(dir / "S", 3, 45 * kMs, 65 * kMs);
   const LabelSummary summary =
-      LabelSession(SessionReader::Open(dir / "S"), {MarkerObject(dir, rig)}, Rig{}, Options(dir / "L"));
+      LabelSession(SessionReader::Open(dir / "S"), {MarkerObject(dir, rig)}, LabelRig{}, Options(dir / "L"));
   EXPECT_EQ(summary.records_with_pose, 2);
   EXPECT_EQ(summary.flag_counts.at("missing_body"), 1);
   const auto lines = ReadJsonLines(dir / "L" / "labels.jsonl");
@@ -183,7 +183,7 @@ TEST(Labeller, LatencyShiftsTheTrackerTime) {
   const auto dir = FreshDir("latency");
   const testing::SyntheticRig rig;
   rig.WriteSession(dir / "S", 3, 45 * kMs, 65 * kMs);
-  Rig latency;
+  LabelRig latency;
   latency.tracker_latency_ns = -15 * kMs;
   const LabelSummary summary =
       LabelSession(SessionReader::Open(dir / "S"), {MarkerObject(dir, rig)}, latency, Options(dir / "L"));
@@ -199,7 +199,7 @@ TEST(Labeller, BadInputGivesClearErrors) {
   LabelObject missing = MarkerObject(dir, rig);
   missing.mesh_path = dir / "nope.ply";
   try {
-    LabelSession(session, {missing}, Rig{}, Options(dir / "L1"));
+    LabelSession(session, {missing}, LabelRig{}, Options(dir / "L1"));
     ADD_FAILURE() << "a missing mesh was accepted";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("nope.ply"), std::string::npos) << e.what();
@@ -210,25 +210,25 @@ TEST(Labeller, BadInputGivesClearErrors) {
   LabelObject wrong_unit = MarkerObject(dir, rig);
   wrong_unit.mesh_path = std::string(MOCAP_SHARED_DIR) + "/realdata/bop_lmo_scene2/models/obj_000001.ply";
   try {
-    LabelSession(session, {wrong_unit}, Rig{}, Options(dir / "L2"));
+    LabelSession(session, {wrong_unit}, LabelRig{}, Options(dir / "L2"));
     ADD_FAILURE() << "a mesh in mm declared as metres was accepted";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("obj_000001.ply"), std::string::npos) << e.what();
   }
 
-  Rig no_body;
+  LabelRig no_body;
   no_body.cameras.push_back({.camera = "cam", .color_camera = {}, .body = "headbody", .T_body_camera = {}});
   EXPECT_THROW(LabelSession(session, {MarkerObject(dir, rig)}, no_body, Options(dir / "L3")), InputError);
 
   LabelObject unknown_body = MarkerObject(dir, rig);
   unknown_body.mounts[0].body = "ghost";
-  const LabelSummary s = LabelSession(session, {unknown_body}, Rig{}, Options(dir / "L4"));
+  const LabelSummary s = LabelSession(session, {unknown_body}, LabelRig{}, Options(dir / "L4"));
   EXPECT_EQ(s.flag_counts.at("missing_body"), 1);
 
   // Refuses to overwrite a folder that is not an earlier label output.
   std::filesystem::create_directories(dir / "precious");
   std::ofstream(dir / "precious" / "data.txt") << "keep";
-  EXPECT_THROW(LabelSession(session, {MarkerObject(dir, rig)}, Rig{}, Options(dir / "precious")), InputError);
+  EXPECT_THROW(LabelSession(session, {MarkerObject(dir, rig)}, LabelRig{}, Options(dir / "precious")), InputError);
   EXPECT_TRUE(std::filesystem::exists(dir / "precious" / "data.txt"));
   std::filesystem::remove_all(dir);
 }

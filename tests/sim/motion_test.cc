@@ -58,13 +58,13 @@ TEST(SceneMotion, RobotHeadPansAndTilts) {
 
 TEST(Scenario, DefaultIsValidAndLasts300Frames) {
   const Scenario scenario = DefaultScenario();
-  EXPECT_NO_THROW(scenario.check(DefaultObjectLibrary(), "default"));
+  EXPECT_NO_THROW(scenario.check(DefaultSimObjects(), "default"));
   EXPECT_EQ(scenario.options.frame_count, 300);
   EXPECT_DOUBLE_EQ(scenario.options.duration_s(), 10.0);
 }
 
 TEST(Scenario, CheckNamesTheOffendingEntry) {
-  const ObjectLibrary library = DefaultObjectLibrary();
+  const SimObjects library = DefaultSimObjects();
   Scenario unknown = DefaultScenario();
   unknown.objects[0].name = "spanner";
   try {
@@ -89,7 +89,7 @@ TEST(Truth, ComposesTheDesignChainExactly) {
   // T_camera_mesh = inv(T_tracker_cambody * T_cambody_camera) * T_tracker_objbody * T_objbody_mesh with
   // noise-free tracker poses reproduces the truth (DESIGN.md "Conventions").
   const Scenario scenario = DefaultScenario();
-  const ObjectLibrary library = DefaultObjectLibrary();
+  const SimObjects library = DefaultSimObjects();
   const SceneMotion motion(scenario);
   const SimulationTruth truth = ComputeTruth(motion, library);
   ASSERT_EQ(truth.frames.size(), 300u);
@@ -113,8 +113,8 @@ TEST(Truth, ErrorsChangeOnlyTheGivenCalibration) {
   scenario.options.errors.latency_ms = 20;
   scenario.options.errors.focal_scale = 0.01;
   scenario.options.errors.object_mounts.push_back({"funnel", {0, 0.002, 0}, {0, 0, 1}});
-  const SimulationTruth truth = ComputeTruth(SceneMotion(scenario), DefaultObjectLibrary());
-  const SimulationTruth clean = ComputeTruth(SceneMotion(DefaultScenario()), DefaultObjectLibrary());
+  const SimulationTruth truth = ComputeTruth(SceneMotion(scenario), DefaultSimObjects());
+  const SimulationTruth clean = ComputeTruth(SceneMotion(DefaultScenario()), DefaultSimObjects());
   EXPECT_NEAR(TranslationDistanceM(truth.given_calibration.T_cambody_camera, truth.true_calibration.T_cambody_camera), 0.005, 1e-12);
   EXPECT_EQ(truth.given_calibration.tracker_latency_ns - truth.true_calibration.tracker_latency_ns, 20'000'000);
   EXPECT_NEAR(truth.given_calibration.color_camera.fx, 1.01 * truth.true_calibration.color_camera.fx, 1e-9);
@@ -125,7 +125,7 @@ TEST(Truth, ErrorsChangeOnlyTheGivenCalibration) {
 TEST(Truth, Kinect2ColourLagsDepth) {
   Scenario scenario = DefaultScenario();
   scenario.options.sensor = SensorKind::kKinect2;
-  const SimulationTruth truth = ComputeTruth(SceneMotion(scenario), DefaultObjectLibrary());
+  const SimulationTruth truth = ComputeTruth(SceneMotion(scenario), DefaultSimObjects());
   double sum_ms = 0;
   for (const FrameTruth& frame : truth.frames) sum_ms += (frame.color_time_ns - frame.depth_time_ns) * 1e-6;
   EXPECT_NEAR(sum_ms / truth.frames.size(), scenario.options.kinect2.colour_delay_ms, 1.0);

@@ -10,9 +10,10 @@
 
 #include "capture/kinect/fakenect_frame_tap.h"
 #include "capture/kinect/fakenect_recording.h"
-#include "cli/rig_yaml.h"
 #include "session/reader.h"
-#include "sim/demo/demo_pipeline.h"
+#include "pipeline/demo.h"
+#include "pipeline/record_stage.h"
+#include "pipeline/rig.h"
 #include "sim/scene_motion.h"
 
 namespace mocap::sim {
@@ -34,13 +35,14 @@ Scenario Piece(double start_s, int frames) {
   return scenario;
 }
 
+/// `mocaplabel sim record`'s path: the session with its truth, rig.yaml and objects.yaml.
 RecordResult Record(const Scenario& scenario, const fs::path& out, int threads, FrameTap* tap = nullptr) {
   RecordOptions options;
   options.out_dir = out;
   options.threads = threads;
   options.frame_tap = tap;
   options.context.platform = EglPlatform::kSurfaceless;
-  return RecordSimulation(scenario, DefaultObjectLibrary(), {}, options);
+  return pipeline::RecordSimulatedSession(scenario, nullptr, options).record;
 }
 
 std::string ReadFile(const fs::path& path) {
@@ -79,10 +81,12 @@ TEST(SimRecord, WritesASessionWithTruthAndTheCalibrationFilesReproducibly) {
   ASSERT_EQ(raw.cols, depth.width);
   EXPECT_EQ(raw.at<uint16_t>(240, 320) == kKinect1NoDisparity, depth.at(320, 240) == 0.0f);
   // The rig file carries the given calibration the labeller is to use.
-  const Rig rig = cli::LoadRigYaml(a.rig_file);
+  const pipeline::Rig rig = pipeline::ReadRig(a.session_dir / "rig.yaml");
   ASSERT_EQ(rig.cameras.size(), 1u);
   EXPECT_EQ(rig.tracker_latency_ns, a.truth.given_calibration.tracker_latency_ns);
-  EXPECT_LT(TranslationDistanceM(*rig.cameras[0].T_body_camera, a.truth.given_calibration.T_cambody_camera), 1e-9);
+  // Written with round-trip precision: the file gives back the in-memory calibration exactly.
+  EXPECT_EQ(rig.cameras[0].T_body_camera->translation(), a.truth.given_calibration.T_cambody_camera.translation());
+  EXPECT_LT(RotationDistanceDeg(*rig.cameras[0].T_body_camera, a.truth.given_calibration.T_cambody_camera), 1e-9);
   EXPECT_EQ(rig.cameras[0].body, scenario.camera_body.name);
 }
 
@@ -100,11 +104,11 @@ TEST(SimRecord, Kinect2SessionsHaveUnregisteredDepthAndLabelAgainstTheColourExpo
   const FrameTruth& f = record.truth.frames[1];
   EXPECT_EQ(session.frame("kinect2", 1).record.stamp_ns, f.color_time_ns);
   EXPECT_GT(f.color_time_ns - f.depth_time_ns, 2'000'000);
-  DemoOptions options;
+  pipeline::DemoOptions options;
   options.out_dir = dir;
   options.threads = 2;
   options.context.platform = EglPlatform::kSurfaceless;
-  const LabelScores scores = LabelAndScore(record, DefaultObjectLibrary(), record.truth.true_calibration, dir / "labels", options);
+  const pipeline::LabelScores scores = pipeline::LabelAndScore(record, record.truth.true_calibration, dir / "labels", options);
   // Scored against the colour-exposure truth, the bottle carried at ~0.2 m/s shows no colour delay error.
   EXPECT_LE(scores.pose_err_mm_median, 1.0);
   EXPECT_GE(scores.mask_iou_mean, 0.9);
@@ -123,25 +127,24 @@ std::vector<double> PredictedLatencyErrorMm(const Scenario& scenario, size_t obj
   return errors;
 }
 
-double MedianErrorMm(const LabelScores& scores, const std::string& object) {
+double MedianErrorMm(const pipeline::LabelScores& scores, const std::string& object) {
   std::vector<double> errors;
-  for (const RecordScore& r : scores.per_record)
+  for (const pipeline::RecordScore& r : scores.per_record)
     if (r.object == object) errors.push_back(r.err_mm);
-  return Percentile(errors, 50);
+  return pipeline::Percentile(errors, 50);
 }
 
 TEST(SimDemo, TrueCalibrationMeetsTargetsAndInjectedErrorsCostWhatGeometryPredicts) {
   const Scenario scenario = Piece(3.4, 18);  // mid-carry: the bottle moves at ~0.2 m/s
   const fs::path dir = TempDir("errors");
   const RecordResult record = Record(scenario, dir / "session", 2);
-  const ObjectLibrary library = DefaultObjectLibrary();
-  DemoOptions options;
+  pipeline::DemoOptions options;
   options.out_dir = dir;
   options.threads = 2;
   options.context.platform = EglPlatform::kSurfaceless;
   const RigCalibration& truth = record.truth.true_calibration;
 
-  const LabelScores exact = LabelAndScore(record, library, truth, dir / "labels_true", options);
+  const pipeline::LabelScores exact = pipeline::LabelAndScore(record, truth, dir / "labels_true", options);
   EXPECT_EQ(exact.frames, 18);
   EXPECT_GE(exact.mask_iou_mean, 0.97);
   EXPECT_LE(exact.pose_err_mm_median, 1.0);
@@ -149,15 +152,15 @@ TEST(SimDemo, TrueCalibrationMeetsTargetsAndInjectedErrorsCostWhatGeometryPredic
 
   CalibrationErrors mount;
   mount.camera_mount_translation_m = {0.005, 0, 0};
-  const LabelScores mounted = LabelAndScore(record, library, ApplyCalibrationErrors(truth, mount), dir / "labels_mount", options);
+  const pipeline::LabelScores mounted = pipeline::LabelAndScore(record, ApplyCalibrationErrors(truth, mount), dir / "labels_mount", options);
   // Every object moves by the mount error in the camera frame: ~5 mm, plus the tracker's noise.
   EXPECT_NEAR(mounted.pose_err_mm_median, 5.0, 0.6);
   EXPECT_LT(mounted.mask_iou_mean, exact.mask_iou_mean);
 
   CalibrationErrors late;
   late.latency_ms = 20;
-  const LabelScores delayed = LabelAndScore(record, library, ApplyCalibrationErrors(truth, late), dir / "labels_latency", options);
-  const double predicted = Percentile(PredictedLatencyErrorMm(scenario, 3, 0.020), 50);  // oil_bottle
+  const pipeline::LabelScores delayed = pipeline::LabelAndScore(record, ApplyCalibrationErrors(truth, late), dir / "labels_latency", options);
+  const double predicted = pipeline::Percentile(PredictedLatencyErrorMm(scenario, 3, 0.020), 50);  // oil_bottle
   const double measured = MedianErrorMm(delayed, "oil_bottle");
   EXPECT_GT(predicted, 2.0) << "the piece should be mid-carry";
   EXPECT_NEAR(measured, predicted, 0.15 * predicted + 0.3) << "predicted " << predicted << " mm";

@@ -34,7 +34,7 @@ TEST(ScenarioYaml, CommittedDefaultIsTheEmbeddedDefault) {
       << "regenerate with `mocaplabel sim check --print-yaml > scenarios/default.yaml`";
   const sim::Scenario parsed = LoadScenarioYaml(path);
   const sim::Scenario embedded = sim::DefaultScenario();
-  EXPECT_NO_THROW(parsed.check(sim::DefaultObjectLibrary(), path.string()));
+  EXPECT_NO_THROW(parsed.check(sim::DefaultSimObjects(), path.string()));
   const sim::SceneMotion a(parsed), b(embedded);
   for (double t = 0; t <= 10.0; t += 0.37) {
     EXPECT_LT(TranslationDistanceM(a.T_world_camera(t), b.T_world_camera(t)), 1e-6);
@@ -48,23 +48,6 @@ TEST(ScenarioYaml, CommittedDefaultIsTheEmbeddedDefault) {
   EXPECT_LT(TranslationDistanceM(parsed.options.tracker.T_world_tracker, embedded.options.tracker.T_world_tracker), 1e-6);
   EXPECT_LT(RotationDistanceDeg(parsed.T_cambody_camera, embedded.T_cambody_camera), 1e-5);
   EXPECT_EQ(parsed.options.seed, embedded.options.seed);
-}
-
-TEST(ScenarioYaml, CommittedObjectsYamlIsTheBuiltInLibrary) {
-  const sim::ObjectLibrary parsed = LoadSimObjectsYaml(std::filesystem::path(MOCAP_SOURCE_DIR) / "meshes" / "objects.yaml");
-  const sim::ObjectLibrary built = sim::DefaultObjectLibrary();
-  ASSERT_EQ(parsed.objects.size(), built.objects.size());
-  for (size_t i = 0; i < built.objects.size(); ++i) {
-    SCOPED_TRACE(built.objects[i].name);
-    EXPECT_EQ(parsed.objects[i].name, built.objects[i].name);
-    EXPECT_EQ(parsed.objects[i].id, built.objects[i].id);
-    EXPECT_EQ(parsed.objects[i].symmetries.size(), built.objects[i].symmetries.size());
-    EXPECT_LT(TranslationDistanceM(parsed.objects[i].T_body_mesh, built.objects[i].T_body_mesh), 1e-6);
-    EXPECT_LT(RotationDistanceDeg(parsed.objects[i].T_body_mesh, built.objects[i].T_body_mesh), 1e-6);
-    EXPECT_DOUBLE_EQ(parsed.objects[i].reflectivity, built.objects[i].reflectivity);
-    for (size_t m = 0; m < built.objects[i].body.markers_m.size(); ++m)
-      EXPECT_LT((parsed.objects[i].body.markers_m[m] - built.objects[i].body.markers_m[m]).norm(), 1e-9);
-  }
 }
 
 TEST(ScenarioYaml, FieldsOverrideTheDefault) {
@@ -103,7 +86,7 @@ occluders: []
   // The tracker looks at its target along its -z axis (NDI convention).
   const Eigen::Vector3d axis = s.options.tracker.T_world_tracker.rotation() * -Eigen::Vector3d::UnitZ();
   EXPECT_NEAR(axis.dot((Eigen::Vector3d(0, 0, 0.9) - Eigen::Vector3d(0, 1, 2.5)).normalized()), 1.0, 1e-12);
-  EXPECT_NO_THROW(s.check(sim::DefaultObjectLibrary(), "scene.yaml"));
+  EXPECT_NO_THROW(s.check(sim::DefaultSimObjects(), "scene.yaml"));
 }
 
 TEST(ScenarioYaml, BadInputNamesFileAndLine) {
@@ -123,16 +106,6 @@ TEST(ScenarioYaml, BadInputNamesFileAndLine) {
   EXPECT_THROW(LoadScenarioYaml("/nonexistent/scene.yaml"), InputError);
 }
 
-TEST(ScenarioYaml, ObjectsYamlErrorsNameTheLine) {
-  try {
-    ParseSimObjectsYaml("objects:\n  - id: 1\n    name: a\n    mesh: a.ply\n    unit: furlong\n", "objects.yaml");
-    FAIL();
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("objects.yaml:5"), std::string::npos) << e.what();
-  }
-  EXPECT_THROW(ParseSimObjectsYaml("objects:\n  - id: 1\n    name: a\n    mesh: a.ply\n    unit: m\n", "objects.yaml"), InputError);
-}
-
 }  // namespace
 }  // namespace mocap::cli
 
@@ -145,7 +118,7 @@ TEST(ScenarioYaml, TheExampleInTheDocsIsValid) {
   ASSERT_NE(begin, std::string::npos);
   const size_t end = doc.find("```", begin + 8);
   const sim::Scenario s = ParseScenarioYaml(doc.substr(begin + 8, end - begin - 8), "docs/simulation.md");
-  EXPECT_NO_THROW(s.check(sim::DefaultObjectLibrary(), "docs/simulation.md"));
+  EXPECT_NO_THROW(s.check(sim::DefaultSimObjects(), "docs/simulation.md"));
   EXPECT_EQ(s.options.sensor, sim::SensorKind::kKinect2);
   EXPECT_TRUE(s.options.errors.any());
   EXPECT_EQ(s.objects.size(), 3u);

@@ -28,7 +28,7 @@ TEST(TrackerModel, FitRigidRecoversAKnownTransform) {
 TEST(TrackerModel, MarkerNoiseHasTheConfiguredRmsAndPoseNoiseFollowsFromGeometry) {
   TrackerOptions options;
   options.noise_rms_mm = 0.25;
-  const MarkerBody body = DefaultObjectLibrary().objects[0].body;
+  const MarkerBody body = DefaultSimObjects().objects[0].body;
   const Rigid3d truth = FacingTool();
   Rng rng(7);
   double sum_fit_sq = 0, sum_centroid_sq = 0, sum_angle_sq = 0;
@@ -103,7 +103,7 @@ TEST(TrackerModel, VolumeGivesOutOfVolumeAndPartiallyInVolume) {
 
 TEST(TrackerStreams, DefaultSceneRateLatencyAndHandOcclusion) {
   const Scenario scenario = DefaultScenario();
-  const ObjectLibrary library = DefaultObjectLibrary();
+  const SimObjects library = DefaultSimObjects();
   const std::vector<BodyStream> streams = SimulateTrackerStreams(SceneMotion(scenario), library);
   ASSERT_EQ(streams.size(), scenario.objects.size() + 1);
   EXPECT_EQ(streams[0].body, "camera_body");
@@ -131,13 +131,13 @@ TEST(TrackerStreams, DefaultSceneRateLatencyAndHandOcclusion) {
 
 TEST(TrackerStreams, SameSeedSameSamples) {
   const Scenario scenario = DefaultScenario();
-  const auto a = SimulateTrackerStreams(SceneMotion(scenario), DefaultObjectLibrary());
-  const auto b = SimulateTrackerStreams(SceneMotion(scenario), DefaultObjectLibrary());
+  const auto a = SimulateTrackerStreams(SceneMotion(scenario), DefaultSimObjects());
+  const auto b = SimulateTrackerStreams(SceneMotion(scenario), DefaultSimObjects());
   for (size_t k = 0; k < a[1].samples.size(); k += 37)
     EXPECT_EQ(a[1].samples[k].pose.translation(), b[1].samples[k].pose.translation());
   Scenario other = scenario;
   other.options.seed += 1;
-  const auto c = SimulateTrackerStreams(SceneMotion(other), DefaultObjectLibrary());
+  const auto c = SimulateTrackerStreams(SceneMotion(other), DefaultSimObjects());
   EXPECT_NE(a[1].samples[5].pose.translation(), c[1].samples[5].pose.translation());
 }
 

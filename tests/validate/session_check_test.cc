@@ -8,7 +8,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "session_fixture.h"
-#include "validate/validation_output.h"
+#include "tests/pipeline/label_run_testing.h"
 
 namespace mocap {
 namespace {

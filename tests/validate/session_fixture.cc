@@ -6,9 +6,8 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 
-#include "cli/objects_yaml.h"
-#include "cli/validation_objects.h"
 #include "label/labeller.h"
+#include "tests/pipeline/label_run_testing.h"
 #include "session/image_io.h"
 #include "session/import/bop_import.h"
 
@@ -43,6 +42,7 @@ void WriteNoisyDepth(const fs::path& exr, const fs::path& png, std::mt19937& rng
 
 /// Links the label run's image folders (one per camera) into another label folder.
 void LinkLabelImages(const fs::path& labels, const fs::path& out_labels) {
+  fs::copy_file(labels / "label_manifest.json", out_labels / "label_manifest.json", fs::copy_options::overwrite_existing);
   for (const auto& entry : fs::directory_iterator(labels))
     if (entry.is_directory()) fs::create_directory_symlink(fs::absolute(entry.path()), out_labels / entry.path().filename());
 }
@@ -57,18 +57,18 @@ fs::path FreshTempDir(const std::string& name) {
 }
 
 std::vector<ValidationObject> SessionObjects(const fs::path& session_dir) {
-  return cli::LoadValidationObjects(session_dir / "objects.yaml");
+  return ReadValidationObjects(session_dir / "objects.yaml");
 }
 
 BopDepthScene MakeBopDepthScene(const fs::path& dir, const std::vector<int64_t>& frames_without_depth, uint32_t seed) {
-  import::ImportBop(kBop / "test/000002", kBop / "models", dir / "S_rgb");
-  LabelOptions label;
+  import::ImportBop(kBop / "test/000002", kBop / "models", dir / "S_rgb", BopOptions());
+  LabelRunOptions label;
   label.out_dir = dir / "L";
   label.threads = 2;
   label.output.write_overlay = true;
   label.output.write_masks = false;
   const SessionReader rgb_only = SessionReader::Open(dir / "S_rgb");
-  LabelSession(rgb_only, cli::LoadObjectsYaml(dir / "S_rgb" / "objects.yaml"), Rig{}, label);
+  LabelSession(rgb_only, ReadLabelObjects(dir / "S_rgb" / "objects.yaml"), LabelRig{}, label);
 
   // A BOP scene folder with the same images, JSON files and the noisy depth.
   const fs::path scene = dir / "scene";
@@ -89,7 +89,7 @@ BopDepthScene MakeBopDepthScene(const fs::path& dir, const std::vector<int64_t>&
       continue;
     WriteNoisyDepth(dir / "L" / "bop" / "depth" / (std::string(stem) + ".exr"), scene / "depth" / (std::string(im) + ".png"), rng);
   }
-  import::ImportBop(scene, kBop / "models", dir / "S");
+  import::ImportBop(scene, kBop / "models", dir / "S", BopOptions());
   return {dir / "S", dir / "L", SessionObjects(dir / "S")};
 }
 

@@ -11,8 +11,9 @@
 #include <map>
 
 #include "session_fixture.h"
-#include "sim/demo/demo_pipeline.h"
-#include "sim/demo/validate_stage.h"
+#include "pipeline/demo.h"
+#include "tests/pipeline/label_run_testing.h"
+#include "pipeline/record_stage.h"
 
 namespace mocap {
 namespace {
@@ -40,10 +41,9 @@ class SimSessionCheckTest : public ::testing::Test {
     record.out_dir = *dir_ / "session";
     record.threads = 2;
     record.context.platform = EglPlatform::kSurfaceless;
-    record_ = new sim::RecordResult(sim::RecordSimulation(scenario, sim::DefaultObjectLibrary(), {}, record));
+    record_ = new sim::RecordResult(pipeline::RecordSimulatedSession(scenario, nullptr, record).record);
     session_ = new SessionReader(SessionReader::Open(record_->session_dir));
-    objects_ = new std::vector<ValidationObject>(
-        sim::ValidationObjects(*record_, sim::DefaultObjectLibrary(), record_->truth.true_calibration));
+    objects_ = new std::vector<ValidationObject>(pipeline::ValidationObjectsOf(pipeline::BuiltInLibraryOf(*record_)));
     Label(record_->truth.true_calibration, Labels());
   }
   /// The table's object id (its records are left out of the checks).
@@ -62,12 +62,12 @@ class SimSessionCheckTest : public ::testing::Test {
   }
   static fs::path Labels() { return *dir_ / "labels"; }
   static void Label(const sim::RigCalibration& calibration, const fs::path& out) {
-    sim::DemoOptions options;
+    pipeline::DemoOptions options;
     options.out_dir = *dir_;
     options.threads = 2;
     options.context.platform = EglPlatform::kSurfaceless;
     const fs::path all = out;
-    sim::LabelRecording(*record_, sim::DefaultObjectLibrary(), calibration, fs::path(all) += "_all", options);
+    pipeline::LabelRecording(*record_, calibration, fs::path(all) += "_all", options);
     testing::WriteLabelsWithoutObject(fs::path(all) += "_all", out, TableId());
   }
   static SessionValidation Check(const fs::path& labels) {

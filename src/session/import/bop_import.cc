@@ -1,6 +1,5 @@
 #include "session/import/bop_import.h"
 
-#include <yaml-cpp/yaml.h>
 
 #include <algorithm>
 #include <cmath>
@@ -67,25 +66,12 @@ nlohmann::json ObjectList(const BopScene& scene) {
   return objects;
 }
 
-void WriteObjectsYaml(const std::filesystem::path& file, const nlohmann::json& objects, const std::string& source) {
-  YAML::Emitter out;
-  out.SetDoublePrecision(12);
-  out << YAML::Comment("Objects of " + source + " (BOP obj_id, mesh in mm; T_body_mesh is identity)");
-  out << YAML::BeginMap << YAML::Key << "objects" << YAML::Value << YAML::BeginSeq;
-  for (const auto& o : objects) {
-    out << YAML::BeginMap;
-    out << YAML::Key << "id" << YAML::Value << o["id"].get<int>();
-    out << YAML::Key << "name" << YAML::Value << o["name"].get<std::string>();
-    out << YAML::Key << "mesh" << YAML::Value << o["mesh"].get<std::string>();
-    out << YAML::Key << "unit" << YAML::Value << "mm";
-    out << YAML::Key << "diameter_m" << YAML::Value << o["diameter_m"].get<double>();
-    out << YAML::Key << "tracker_bodies" << YAML::Value << YAML::Flow << o["tracker_bodies"].get<std::vector<std::string>>();
-    out << YAML::EndMap;
-  }
-  out << YAML::EndSeq << YAML::EndMap;
-  std::ofstream stream(file);
-  stream << out.c_str() << "\n";
-  if (!stream) throw InputError(file.string(), "cannot write objects.yaml");
+std::vector<BopObject> Objects(const nlohmann::json& list) {
+  std::vector<BopObject> objects;
+  for (const auto& o : list)
+    objects.push_back({o["id"].get<int>(), o["name"].get<std::string>(), o["mesh"].get<std::string>(),
+                       o["diameter_m"].get<double>(), o["tracker_bodies"].get<std::vector<std::string>>()});
+  return objects;
 }
 
 void WriteGroup(SessionWriter& writer, const CameraGroup& group, const BopImportOptions& options, ImportSummary& summary) {
@@ -123,6 +109,7 @@ void WriteGroup(SessionWriter& writer, const CameraGroup& group, const BopImport
 void BopImportOptions::check() const {
   if (!(frame_rate_hz > 0) || !std::isfinite(frame_rate_hz))
     throw InputError("BopImportOptions", "frame_rate_hz must be positive");
+  MOCAP_CHECK(write_objects, "BopImportOptions::write_objects is not set");
 }
 
 std::string BopBodyName(int obj_id, int instance) {
@@ -165,7 +152,7 @@ ImportSummary ImportBop(const std::filesystem::path& scene_dir, const std::files
   summary.notes.push_back(Str("stamps are synthetic: im_id at ", options.frame_rate_hz, " Hz"));
   if (groups.size() > 1) summary.notes.push_back(Str("cam_K varies: ", groups.size(), " cameras, one per distinct K"));
   auto writer = SessionWriter::Create(out, manifest);
-  WriteObjectsYaml(out / "objects.yaml", objects, manifest.source);
+  options.write_objects(out / "objects.yaml", Objects(objects), manifest.source);
   for (const auto& g : groups) WriteGroup(*writer, g, options, summary);
   writer->Close();
   return summary;

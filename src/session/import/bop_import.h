@@ -17,15 +17,30 @@
 //    diameter, and the bodies that carry it (T_body_mesh = identity: BOP poses are of the model frame);
 //    the same list is in manifest.extra["objects"].
 #include <filesystem>
+#include <functional>
+#include <vector>
 #include <string>
 
 #include "session/import/import_common.h"
 
 namespace mocap::import {
 
+/// An object of the imported scene, as objects.yaml will list it.
+struct BopObject {
+  int id = 0;                          ///< BOP obj_id
+  std::string name;                    ///< obj_NNNNNN
+  std::filesystem::path mesh;          ///< absolute; in millimetres
+  double diameter_m = 0;
+  std::vector<std::string> bodies;     ///< one tracker body per instance, mounted at identity
+};
+
 struct BopImportOptions {
   double frame_rate_hz = 30.0;  ///< synthetic rate turning im_id into stamps
   std::string software_version;
+  /// Writes the session's objects.yaml (the pipeline's writer, pipeline/object_library.h): called
+  /// before the session is closed, so a complete session always has it. Required.
+  std::function<void(const std::filesystem::path& file, const std::vector<BopObject>& objects, const std::string& source)>
+      write_objects;
   void check() const;
 };
 

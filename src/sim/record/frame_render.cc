@@ -6,11 +6,11 @@
 
 namespace mocap::sim {
 
-SceneMeshes LoadSceneMeshes(const Scenario& scenario, const ObjectLibrary& library, const std::string& library_dir) {
+SceneMeshes LoadSceneMeshes(const Scenario& scenario, const SimObjects& library, const std::string& library_dir) {
   namespace fs = std::filesystem;
   SceneMeshes meshes;
   for (const ScenarioObject& object : scenario.objects) {
-    const ObjectSpec* spec = library.Find(object.name);
+    const SimObject* spec = library.Find(object.name);
     MOCAP_CHECK(spec, "object ", object.name, " not in the library (scenario.check() was not called)");
     meshes.objects.push_back(LoadMesh((fs::path(library_dir) / spec->mesh).string(), spec->unit_scale_to_m));
   }
@@ -19,11 +19,11 @@ SceneMeshes LoadSceneMeshes(const Scenario& scenario, const ObjectLibrary& libra
   return meshes;
 }
 
-FrameRenderer::FrameRenderer(const Scenario& scenario, const ObjectLibrary& library, const SceneMeshes& meshes,
+FrameRenderer::FrameRenderer(const Scenario& scenario, const SimObjects& library, const SceneMeshes& meshes,
                              const RenderContextOptions& context)
     : scenario_(scenario), library_(library), context_(RenderContext::Create(context)) {
   for (const ScenarioObject& object : scenario.objects) {
-    const ObjectSpec* spec = library.Find(object.name);
+    const SimObject* spec = library.Find(object.name);
     if (spec->reflectivity > 0)
       reflective_.push_back({static_cast<uint16_t>(spec->id), spec->reflectivity, spec->tof_deformation_m});
   }

@@ -28,7 +28,7 @@ struct SceneMeshes {
 
 /// Loads the meshes of `scenario` from `library_dir` (the folder of objects.yaml). Throws InputError
 /// naming a missing or unreadable mesh.
-SceneMeshes LoadSceneMeshes(const Scenario& scenario, const ObjectLibrary& library, const std::string& library_dir);
+SceneMeshes LoadSceneMeshes(const Scenario& scenario, const SimObjects& library, const std::string& library_dir);
 
 struct SimFrame {
   int index = 0;
@@ -42,7 +42,7 @@ struct SimFrame {
 class FrameRenderer {
  public:
   /// Creates this thread's EGL context and uploads the meshes. `meshes` must outlive the renderer.
-  FrameRenderer(const Scenario& scenario, const ObjectLibrary& library, const SceneMeshes& meshes,
+  FrameRenderer(const Scenario& scenario, const SimObjects& library, const SceneMeshes& meshes,
                 const RenderContextOptions& context);
   ~FrameRenderer();
   /// Renders and sensor-models frame `truth` (Kinect v1 or v2). Reproducible: noise is seeded by the
@@ -51,7 +51,7 @@ class FrameRenderer {
 
  private:
   const Scenario& scenario_;
-  const ObjectLibrary& library_;
+  const SimObjects& library_;
   std::unique_ptr<RenderContext> context_;
   std::unique_ptr<Renderer> labels_, color_labels_;
   std::unique_ptr<ColorRenderer> colors_;

@@ -20,7 +20,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-SessionManifest SimManifest(const Scenario& scenario, const ObjectLibrary& library, const RigCalibration& given) {
+SessionManifest SimManifest(const Scenario& scenario, const SimObjects& library, const RigCalibration& given) {
   SessionManifest manifest;
   manifest.source = "sim " + scenario.options.name;
   CameraStreamInfo camera;
@@ -77,11 +77,6 @@ cv::Mat ToMat(const DepthImage& depth) {
   return cv::Mat(depth.height, depth.width, CV_32FC1, const_cast<float*>(depth.data.data())).clone();
 }
 
-std::string Stem(int index) {
-  char buffer[16];
-  std::snprintf(buffer, sizeof buffer, "%06d", index);
-  return buffer;
-}
 
 /// Hands frames to `write` in index order whatever order the workers finish them in.
 class OrderedSink {
@@ -118,7 +113,7 @@ struct FrameWriters {
   SessionWriter& session;
   std::string camera;
   FrameTap* tap = nullptr;
-  fs::path truth_instance_dir;
+  fs::path truth_dir;
 };
 
 void WriteFrame(const SimFrame& frame, const FrameTruth& truth, FrameWriters& out) {
@@ -133,15 +128,15 @@ void WriteFrame(const SimFrame& frame, const FrameTruth& truth, FrameWriters& ou
   if (out.tap) out.tap->Add(bgr, depth, static_cast<uint64_t>(record.device_ticks), truth.depth_time_ns * 1e-9);
 }
 
-void WriteTruthInstances(const SimFrame& frame, const fs::path& dir) {
+void WriteTruthInstances(const SimFrame& frame, const fs::path& truth_dir) {
   const LabelImage& ids = frame.true_instances;
   const cv::Mat mat(ids.height, ids.width, CV_16UC1, const_cast<uint16_t*>(ids.data.data()));
-  const fs::path path = dir / (Stem(frame.index) + ".png");
+  const fs::path path = TruthInstancePng(truth_dir, frame.index);
   if (!cv::imwrite(path.string(), mat)) throw InputError(path.string(), "could not write the truth instance image");
 }
 
 /// Renders every frame on `threads` workers; returns the number of pixels without depth.
-int64_t RenderAndWrite(const Scenario& scenario, const ObjectLibrary& library, const SceneMeshes& meshes,
+int64_t RenderAndWrite(const Scenario& scenario, const SimObjects& library, const SceneMeshes& meshes,
                        const SimulationTruth& truth, const RecordOptions& options, FrameWriters& out) {
   const int frames = static_cast<int>(truth.frames.size());
   const int threads = std::max(1, std::min(frames, options.threads > 0 ? options.threads
@@ -157,7 +152,7 @@ int64_t RenderAndWrite(const Scenario& scenario, const ObjectLibrary& library, c
       for (int i = next++; i < frames; i = next++) {
         const SimFrame frame = renderer.Render(truth.frames[static_cast<size_t>(i)], truth.true_calibration);
         invalid += frame.invalid_depth_pixels;
-        WriteTruthInstances(frame, out.truth_instance_dir);
+        WriteTruthInstances(frame, out.truth_dir);
         sink.Submit(i, [&] { WriteFrame(frame, truth.frames[static_cast<size_t>(i)], out); });
       }
     } catch (...) {
@@ -186,18 +181,6 @@ void WriteTruth(const SimulationTruth& truth, const fs::path& dir) {
   if (!poses) throw InputError((dir / "poses.jsonl").string(), "could not write");
 }
 
-/// truth/, rig.yaml and objects.yaml of `result` (which has its session and truth folders set).
-void WriteTruthAndCalibration(const Scenario& scenario, const ObjectLibrary& library, const fs::path& meshes_dir,
-                              RecordResult& result) {
-  const fs::path& S = result.session_dir;
-  const RigCalibration& given = result.truth.given_calibration;
-  WriteTruth(result.truth, result.truth_dir);
-  result.rig_file = S / "rig.yaml";
-  WriteTextFile(result.rig_file.string(), EncodeRigYaml("sim-" + scenario.options.name, SimCameraName(scenario.options.sensor),
-                                                        scenario.camera_body.name, given));
-  result.objects_file = S / "objects.yaml";
-  WriteTextFile(result.objects_file.string(), EncodeObjectsYaml(LibraryForLabelling(library, given, meshes_dir, S)));
-}
 
 }  // namespace
 
@@ -211,7 +194,7 @@ void RecordOptions::check() const {
   context.check();
 }
 
-RecordResult RecordSimulation(const Scenario& scenario, const ObjectLibrary& library, const fs::path& library_dir,
+RecordResult RecordSimulation(const Scenario& scenario, const SimObjects& library, const fs::path& library_dir,
                               const RecordOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   options.check();
@@ -236,20 +219,22 @@ RecordResult RecordSimulation(const Scenario& scenario, const ObjectLibrary& lib
   result.truth_dir = S / "truth";
   fs::create_directories(result.truth_dir / "instance");
   if (options.frame_tap) options.frame_tap->Open(given.color_camera);
-  // Truth and calibration files first: the session is marked complete (Close) only after everything.
-  WriteTruthAndCalibration(scenario, library, meshes_dir, result);
+  // Truth first, and the caller's files (rig.yaml, objects.yaml: pipeline/record_stage.h) through
+  // `options.before_close`: the session is marked complete (Close) only after everything.
+  WriteTruth(result.truth, result.truth_dir);
   result.tracker_samples = WriteTrackerStreams(*writer, streams);
-  FrameWriters out{*writer, SimCameraName(scenario.options.sensor), options.frame_tap, result.truth_dir / "instance"};
+  FrameWriters out{*writer, SimCameraName(scenario.options.sensor), options.frame_tap, result.truth_dir};
   const int64_t invalid = RenderAndWrite(scenario, library, meshes, result.truth, options, out);
   if (options.frame_tap) options.frame_tap->Close();
+  result.camera_name = SimCameraName(scenario.options.sensor);
+  result.tracker_name = kSimTrackerName;
+  result.camera_body = scenario.camera_body.name;
+  if (options.before_close) options.before_close(result);
   writer->Close();
   result.frames = static_cast<int>(result.truth.frames.size());
   const double pixels = double(result.frames) * given.depth_camera.width * given.depth_camera.height;
   result.invalid_depth_fraction = pixels > 0 ? invalid / pixels : 0;
   for (const ScenarioObject& object : scenario.objects) result.body_of_object.push_back(library.Find(object.name)->body.name);
-  result.camera_name = SimCameraName(scenario.options.sensor);
-  result.tracker_name = kSimTrackerName;
-  result.camera_body = scenario.camera_body.name;
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
 }

@@ -5,8 +5,7 @@
 //   S/manifest.json, S/cameras/..., S/trackers/...  the session (Kinect v1 colour + registered depth, or
 //                                                   Kinect v2 colour + unregistered ToF depth; the
 //                                                   tracker's bodies), calibration as *given*
-//   S/rig.yaml, S/objects.yaml, S/meshes/           what `mocaplabel label S --rig S/rig.yaml` needs;
-//                                                   the scenario's calibration errors are in these
+//   S/meshes/                                       the built-in library's meshes (when no library is given)
 //   S/truth/calibration.json                        true and given calibration, injected errors
 //   S/truth/poses.jsonl                             per frame: true poses of every object (colour and depth frame)
 //   S/truth/instance/<frame>.png                    uint16, colour image: library object id (occluders 65000 + k)
@@ -15,12 +14,13 @@
 // is the same for any number of threads.
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
 #include "render/render_context.h"
 #include "sim/record/frame_tap.h"
-#include "sim/object_library.h"
+#include "sim/sim_objects.h"
 #include "sim/scenario.h"
 #include "sim/truth.h"
 
@@ -32,6 +32,10 @@ struct RecordOptions {
   /// Also fed every camera frame in order (Kinect v1 scenarios only); not owned, may be null.
   FrameTap* frame_tap = nullptr;
   RenderContextOptions context;
+  /// Called with the result (session, truth and library folders, names, truth filled) after the frames
+  /// are written and before the session is closed: files written here (the pipeline's rig.yaml and
+  /// objects.yaml of the given calibration) exist whenever the session is complete.
+  std::function<void(const struct RecordResult&)> before_close;
   void check() const;  ///< throws InputError
 };
 
@@ -40,7 +44,7 @@ struct RecordResult {
   int64_t tracker_samples = 0;
   double invalid_depth_fraction = 0;  ///< pixels without depth from the sensor model (shadows, edges, range)
   double seconds = 0;
-  std::filesystem::path session_dir, rig_file, objects_file, truth_dir;
+  std::filesystem::path session_dir, truth_dir;
   std::filesystem::path library_dir;  ///< folder of the mesh files used
   SimulationTruth truth;
   std::vector<std::string> body_of_object;  ///< tracker body per scenario object
@@ -50,7 +54,7 @@ struct RecordResult {
 /// Simulates and writes `scenario`. `library_dir` holds the library's mesh files (the folder of its
 /// objects.yaml). Precondition: none; throws InputError for an invalid scenario, an unusable output
 /// folder, a missing mesh or a failed write (the session then stays marked incomplete).
-RecordResult RecordSimulation(const Scenario& scenario, const ObjectLibrary& library,
+RecordResult RecordSimulation(const Scenario& scenario, const SimObjects& library,
                               const std::filesystem::path& library_dir, const RecordOptions& options);
 
 /// The camera stream name of simulated sessions: "kinect1" or "kinect2".

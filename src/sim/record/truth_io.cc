@@ -6,24 +6,12 @@
 
 #include "core/check.h"
 #include "session/manifest.h"
+#include "session/records.h"
 
 namespace mocap::sim {
 namespace {
 
 nlohmann::json Vec(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
-
-std::string Num(double x) {
-  char buffer[40];
-  std::snprintf(buffer, sizeof buffer, "%.12g", x);
-  return buffer;
-}
-
-std::string YamlPose(const Rigid3d& T, const std::string& indent) {
-  const Eigen::Vector3d t = T.translation();
-  const Eigen::Vector4d q = T.quat_wxyz();
-  return indent + "translation_m: [" + Num(t.x()) + ", " + Num(t.y()) + ", " + Num(t.z()) + "]\n" + indent +
-         "rotation_wxyz: [" + Num(q[0]) + ", " + Num(q[1]) + ", " + Num(q[2]) + ", " + Num(q[3]) + "]\n";
-}
 
 }  // namespace
 
@@ -49,6 +37,10 @@ nlohmann::json ToJson(const CalibrationErrors& e) {
           {"principal_point_px", {e.principal_point_px.x(), e.principal_point_px.y()}}};
 }
 
+std::filesystem::path TruthInstancePng(const std::filesystem::path& truth_dir, int64_t frame) {
+  return truth_dir / "instance" / (FrameFileStem(frame) + ".png");
+}
+
 nlohmann::json FrameTruthJson(const FrameTruth& f) {
   nlohmann::json objects = nlohmann::json::array(), occluders = nlohmann::json::array();
   for (const ObjectTruth& o : f.objects)
@@ -67,34 +59,6 @@ nlohmann::json FrameTruthJson(const FrameTruth& f) {
           {"T_world_color", mocap::ToJson(f.T_world_color)},
           {"objects", objects},
           {"occluders", occluders}};
-}
-
-std::string EncodeRigYaml(const std::string& name, const std::string& camera, const std::string& camera_body,
-                          const RigCalibration& c) {
-  const PinholeCamera& k = c.color_camera;
-  std::ostringstream out;
-  out << "# Calibration handed to the labeller by `mocaplabel sim record` (schema: docs/rig.md); the\n"
-         "# scenario's injected errors are applied here, the truth is in truth/calibration.json.\n"
-      << "name: " << name << "\ntracker_latency_ms: " << Num(c.tracker_latency_ns * 1e-6) << "\ncameras:\n"
-      << "  - name: " << camera << "\n    body: " << camera_body << "\n    T_body_camera:\n"
-      << YamlPose(c.T_cambody_camera, "      ") << "    intrinsics:\n      width: " << k.width
-      << "\n      height: " << k.height << "\n      fx: " << Num(k.fx) << "\n      fy: " << Num(k.fy)
-      << "\n      cx: " << Num(k.cx) << "\n      cy: " << Num(k.cy) << "\n      dist: [";
-  for (size_t i = 0; i < k.dist.size(); ++i) out << (i ? ", " : "") << Num(k.dist[i]);
-  out << "]\n";
-  return out.str();
-}
-
-ObjectLibrary LibraryForLabelling(const ObjectLibrary& library, const RigCalibration& calibration,
-                                  const std::filesystem::path& library_dir, const std::filesystem::path& yaml_dir) {
-  namespace fs = std::filesystem;
-  ObjectLibrary out = library;
-  for (ObjectSpec& spec : out.objects) {
-    spec.mesh = fs::relative(fs::absolute(library_dir / spec.mesh), fs::absolute(yaml_dir)).generic_string();
-    for (size_t i = 0; i < calibration.objects.size(); ++i)
-      if (calibration.objects[i] == spec.name) spec.T_body_mesh = calibration.T_objbody_mesh[i];
-  }
-  return out;
 }
 
 void WriteJsonFile(const std::filesystem::path& path, const nlohmann::json& json) {

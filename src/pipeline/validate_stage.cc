@@ -1,0 +1,80 @@
+#include "pipeline/validate_stage.h"
+
+#include <set>
+
+#include "core/check.h"
+#include "pipeline/label_run.h"
+#include "pipeline/label_stage.h"
+#include "pipeline/object_library.h"
+#include "pipeline/publish.h"
+#include "pipeline/validation_run.h"
+#include "session/reader.h"
+
+namespace mocap::pipeline {
+namespace {
+
+namespace fs = std::filesystem;
+
+}  // namespace
+
+SessionValidation RunValidate(const ValidateRunRequest& request) {
+  const SessionReader session = SessionReader::Open(request.session_dir);
+  const LabelRun labels = LabelRun::Read(request.labels_dir);
+  const ObjectLibrary library = ReadObjectLibrary(FindObjectsFile(request.session_dir, request.objects_file));
+  SessionCheckOptions options = request.check;
+  options.labels_dir = request.labels_dir;
+  options.frame_begin = request.shard.begin;
+  options.frame_end = request.shard.end;
+  for (const std::string& name : request.skip_object_names)
+    if (const LibraryObject* o = library.Find(name)) options.skip_objects.push_back(o->id);
+  return ValidateIntoRun(session, ValidationObjectsOf(library), LabelRunViewOf(labels, request.shard.begin, request.shard.end),
+                         options, request.out_dir);
+}
+
+SessionValidation ValidateIntoRun(const SessionReader& session, const std::vector<ValidationObject>& objects,
+                                  LabelRunView labels, const SessionCheckOptions& options, const fs::path& out) {
+  options.check();
+  PartialOutput output(out, "validation.json", "validation");
+  const SessionValidation validation = CheckSession(session, objects, std::move(labels), options);
+  WriteValidationRun(validation, options, session.dir(), output.dir(), out);
+  output.Publish();
+  return validation;
+}
+
+Stage MakeValidateStage(int frame_stride, std::vector<std::string> skip_objects) {
+  Stage stage;
+  stage.name = "validate";
+  stage.inputs = [](const PipelineContext& c) { return std::vector<fs::path>{c.session_dir, c.labels_dir, c.objects_file}; };
+  stage.outputs = [](const PipelineContext& c) { return std::vector<fs::path>{c.out_dir / "validation"}; };
+  stage.run = [frame_stride, skip_objects](PipelineContext& c, const Shard& shard) {
+    ValidateRunRequest request;
+    request.session_dir = c.session_dir, request.labels_dir = c.labels_dir, request.objects_file = c.objects_file;
+    request.out_dir = c.out_dir / "validation";
+    request.check.threads = c.threads;
+    request.check.frame_stride = frame_stride;
+    request.check.context = c.render_context;
+    request.shard = shard;
+    request.skip_object_names = skip_objects;
+    request.command = c.command;
+    request.progress = c.progress;
+    const SessionValidation v = RunValidate(request);
+    std::set<std::pair<std::string, int64_t>> frames;
+    for (const RecordCheck& r : v.records) frames.insert({r.camera, r.index});
+    nlohmann::json& result = c.results["validate"];
+    result = {{"validated_frames", frames.size()}, {"frame_stride", frame_stride}, {"verdicts", v.summary.verdicts},
+              {"records_checked", v.summary.records_checked}};
+    // No checkable record (e.g. every object out of view) leaves the rate unset rather than a false 0.
+    result["segicp_success_rate"] = v.summary.records_checked > 0 ? nlohmann::json(v.summary.segicp_success_rate) : nlohmann::json();
+    c.validation_dir = request.out_dir;
+    c.outputs["validation"] = request.out_dir.string();
+    std::string skipped;
+    for (const std::string& name : skip_objects) skipped += (skipped.empty() ? "" : ", ") + name;
+    if (!skipped.empty()) c.notes.push_back("validation leaves out " + skipped + " (a plane: not verifiable by ICP)");
+    if (frame_stride > 1)
+      c.notes.push_back(Str("validation checked one frame in ", frame_stride, " (", frames.size(),
+                            " frames) to keep the demo short; `mocaplabel validate` checks every frame"));
+  };
+  return stage;
+}
+
+}  // namespace mocap::pipeline

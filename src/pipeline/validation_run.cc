@@ -1,0 +1,171 @@
+#include "pipeline/validation_run.h"
+
+#include <fstream>
+
+#include "core/check.h"
+#include "pipeline/json_read.h"
+#include "validate/report_html.h"
+
+namespace mocap::pipeline {
+namespace {
+
+namespace fs = std::filesystem;
+
+nlohmann::json Vec(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
+
+nlohmann::json StatJson(const Stat& s) {
+  return {{"count", s.count}, {"median", s.median}, {"p95", s.p95}, {"std", s.std}, {"max", s.max}};
+}
+
+void WriteText(const fs::path& file, const std::string& text) {
+  std::ofstream out(file);
+  out << text;
+  out.close();
+  if (!out) throw InputError(file.string(), "could not write (disk full or not writable?)");
+}
+
+std::string_view ToString(MaskValues values) { return values == MaskValues::kObjectId ? "object" : "instance"; }
+
+/// The enum value whose ToString is the field's text; enumerates values from 0 up to `last`.
+template <typename Enum>
+Enum ParseEnum(const JsonFields& f, const char* key, Enum last) {
+  const std::string text = f.String(key);
+  for (int v = 0; v <= static_cast<int>(last); ++v)
+    if (ToString(static_cast<Enum>(v)) == text) return static_cast<Enum>(v);
+  throw InputError(f.where(), Str("field \"", key, "\" has an unknown value \"", text, "\""));
+}
+
+}  // namespace
+
+nlohmann::json ToJson(const RecordCheck& r) {
+  const LabelCheck& c = r.check;
+  nlohmann::json j = {{"camera", r.camera},
+                      {"index", r.index},
+                      {"stamp_ns", r.stamp_ns},
+                      {"object", r.object},
+                      {"name", r.name},
+                      {"instance", r.instance},
+                      {"mode", r.mode},
+                      {"verdict", ToString(c.verdict)},
+                      {"reason_code", ToString(c.reason_code)},
+                      {"reason", c.reason},
+                      {"scene_points", c.scene_points},
+                      {"label_rvec", Vec(r.T_camera_object_label.rvec())},
+                      {"label_t_m", Vec(r.T_camera_object_label.translation())}};
+  j["estimated"] = c.estimated;
+  if (c.estimated) {
+    j["segicp_rvec"] = Vec(c.T_camera_object_segicp.rvec());
+    j["segicp_t_m"] = Vec(c.T_camera_object_segicp.translation());
+    j["segicp_score"] = c.segicp_score;
+    j["segicp_reliable"] = c.segicp_reliable;
+    j["position_error_mm"] = c.errors.position_mm;
+    j["rotation_axis_error_deg"] = c.errors.rotation_axis_deg;
+    j["rotation_angle_error_deg"] = c.errors.rotation_angle_deg;
+    j["success"] = c.success;
+    j["icp_iterations"] = c.icp.iterations;
+    j["icp_inlier_rmse_m"] = c.icp.inlier_rmse_m;
+  }
+  j["label_score"] = c.label_score;
+  if (r.segmentation)
+    j["segmentation"] = {{"iou", r.segmentation->iou}, {"precision", r.segmentation->precision},
+                         {"recall", r.segmentation->recall}};
+  return j;
+}
+
+RecordCheck RecordCheckFromJson(const nlohmann::json& j, const std::string& where) {
+  const JsonFields f(j, where);
+  RecordCheck r;
+  r.camera = f.String("camera"), r.index = f.Integer("index"), r.stamp_ns = f.Integer("stamp_ns");
+  r.object = static_cast<int>(f.Integer("object")), r.name = f.String("name");
+  r.instance = static_cast<int>(f.Integer("instance")), r.mode = f.String("mode");
+  r.T_camera_object_label = Rigid3d::FromRvec(f.Vector3("label_rvec"), f.Vector3("label_t_m"));
+  LabelCheck& c = r.check;
+  c.verdict = ParseEnum<Verdict>(f, "verdict", Verdict::kReject);
+  c.reason_code = ParseEnum<VerdictReason>(f, "reason_code", VerdictReason::kUnreadableInput);
+  c.reason = f.String("reason");
+  c.scene_points = static_cast<int>(f.Integer("scene_points"));
+  c.estimated = f.Bool("estimated");
+  if (c.estimated) {
+    c.T_camera_object_segicp = Rigid3d::FromRvec(f.Vector3("segicp_rvec"), f.Vector3("segicp_t_m"));
+    c.segicp_score = f.Number("segicp_score"), c.segicp_reliable = f.Bool("segicp_reliable");
+    c.errors = {f.Number("position_error_mm"), f.Number("rotation_axis_error_deg"), f.Number("rotation_angle_error_deg")};
+    c.success = f.Bool("success");
+    c.icp.iterations = static_cast<int>(f.Integer("icp_iterations"));
+    c.icp.inlier_rmse_m = f.Number("icp_inlier_rmse_m");
+  }
+  c.label_score = f.Number("label_score");
+  if (f.Has("segmentation")) {
+    const JsonFields g(f["segmentation"], where + " segmentation");
+    r.segmentation = SegmentationScore{g.Number("iou"), g.Number("precision"), g.Number("recall")};
+  }
+  return r;
+}
+
+nlohmann::json ValidationSummaryJson(const ValidationSummary& s, const SessionCheckOptions& options,
+                                     const fs::path& session_dir) {
+  nlohmann::json j = {{"complete", true},
+                      {"session", fs::absolute(session_dir).string()},
+                      {"labels", fs::absolute(options.labels_dir).string()},
+                      {"masks", options.masks_dir.empty() ? nlohmann::json() : nlohmann::json(fs::absolute(options.masks_dir).string())},
+                      {"mask_values", options.masks_dir.empty() ? "label_instance" : ToString(options.mask_values)},
+                      {"crops", options.crops == CropBackend::kRenderer ? "renderer" : "surface"},
+                      {"mode", options.track ? "track" : "frame"},
+                      {"frame_stride", options.frame_stride},
+                      {"records", s.records},
+                      {"records_without_pose", s.records_without_pose},
+                      {"records_checked", s.records_checked},
+                      {"segicp_success_rate", s.segicp_success_rate},
+                      {"verdicts", s.verdicts},
+                      {"reasons", s.reasons},
+                      {"position_error_mm", StatJson(s.position_error_mm)},
+                      {"rotation_axis_error_deg", StatJson(s.rotation_axis_error_deg)},
+                      {"rotation_angle_error_deg", StatJson(s.rotation_angle_error_deg)},
+                      {"label_score", StatJson(s.label_score)},
+                      {"seconds", s.seconds}};
+  for (const char* v : {"accept", "suspect", "reject"})
+    if (!j["verdicts"].contains(v)) j["verdicts"][v] = 0;
+  if (s.has_segmentation)
+    j["segmentation"] = {{"iou", StatJson(s.iou)}, {"precision", StatJson(s.precision)}, {"recall", StatJson(s.recall)}};
+  return j;
+}
+
+void WriteValidationRun(const SessionValidation& validation, const SessionCheckOptions& options,
+                        const fs::path& session_dir, const fs::path& dir, const fs::path& report_dir) {
+  const ValidationRunLayout layout{dir};
+  std::string jsonl;
+  for (const RecordCheck& r : validation.records) jsonl += ToJson(r).dump() + "\n";
+  WriteText(layout.records_jsonl(), jsonl);
+  WriteText(layout.report_html(), ValidationReportHtml(validation, options.validate.verdict, report_dir));
+  // The summary last: its presence marks a whole output.
+  WriteText(layout.summary_json(), ValidationSummaryJson(validation.summary, options, session_dir).dump(2) + "\n");
+}
+
+LabelRunView LabelRunViewOf(const LabelRun& run, int64_t frame_begin, int64_t frame_end) {
+  LabelRunView view;
+  for (const LabelRecord& r : run.records) {
+    if (r.index < frame_begin || (frame_end >= 0 && r.index >= frame_end)) continue;
+    ++view.total;
+    if (!r.has_pose) continue;  // a label without a pose has nothing to check
+    RecordCheck c;
+    c.camera = r.camera, c.index = r.index, c.stamp_ns = r.stamp_ns, c.object = r.object, c.name = r.name;
+    c.instance = r.instance;
+    c.T_camera_object_label = r.T_camera_mesh();
+    view.records.push_back(std::move(c));
+  }
+  const LabelRunLayout layout = run.layout;
+  view.instance_png = [layout](const std::string& camera, int64_t index) { return layout.InstancePng(camera, index); };
+  view.overlay_png = [layout](const std::string& camera, int64_t index) { return layout.OverlayPng(camera, index); };
+  return view;
+}
+
+ValidationRun ValidationRun::Read(const fs::path& dir) {
+  ValidationRun run;
+  run.layout.dir = dir;
+  if (!fs::exists(run.layout.summary_json()))
+    throw InputError(dir.string(), "is not a finished validation run (no validation.json)");
+  run.summary = ReadJsonFile(run.layout.summary_json());
+  for (const auto& [where, j] : ReadJsonLines(run.layout.records_jsonl())) run.records.push_back(RecordCheckFromJson(j, where));
+  return run;
+}
+
+}  // namespace mocap::pipeline
