@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <chrono>
 #include <cstdio>
 #include <cstring>
 #include <memory>
@@ -74,6 +75,13 @@ std::optional<FileStat> StatFile(const std::filesystem::path& file) {
   out.mtime_ns = static_cast<int64_t>(st.st_mtim.tv_sec) * 1'000'000'000 + st.st_mtim.tv_nsec;
   out.inode = static_cast<uint64_t>(st.st_ino);
   return out;
+}
+
+bool RecentlyModified(const FileStat& stat) {
+  const int64_t now_ns = std::chrono::duration_cast<std::chrono::nanoseconds>(
+                             std::chrono::system_clock::now().time_since_epoch())
+                             .count();
+  return now_ns - stat.mtime_ns < kRacyWindowNs;
 }
 
 std::string TreeDigest(std::vector<TreeEntry> entries) {

@@ -28,6 +28,14 @@ struct FileStat {
 /// Stat of a regular file (symbolic links followed); nullopt when missing or not a regular file.
 std::optional<FileStat> StatFile(const std::filesystem::path& file);
 
+/// A file modified this recently may be rewritten with the same size within the same (coarse,
+/// timer-tick granular) mtime, so its size and mtime cannot vouch for its content yet: such a file is
+/// neither cached nor given a stat fast path in run.json (git's "racy clean" rule).
+inline constexpr int64_t kRacyWindowNs = 2'000'000'000;
+
+/// True when the file's mtime lies within kRacyWindowNs of now (or in the future).
+bool RecentlyModified(const FileStat& stat);
+
 /// One file of a folder input: its path relative to the folder ('/'-separated) and its content hash.
 struct TreeEntry {
   std::string relative_path;

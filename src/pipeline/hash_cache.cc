@@ -2,7 +2,6 @@
 
 #include <unistd.h>
 
-#include <chrono>
 #include <cstdlib>
 #include <fstream>
 #include <random>
@@ -14,17 +13,6 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr const char* kHeader = "# mocaplabel hash cache v1: xxh3-128 size_bytes mtime_ns inode path";
-
-// A file modified within this window of being hashed may be modified again with the same size and the
-// same (coarse, jiffy-granular) mtime, so its hash is not cached until it is older, as in git's
-// "racy clean" rule. It is still hashed, and correct, every time.
-constexpr int64_t kRacyWindowNs = 2'000'000'000;
-
-int64_t NowNs() {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(
-             std::chrono::system_clock::now().time_since_epoch())
-      .count();
-}
 
 std::string Key(const fs::path& file) { return fs::absolute(file).lexically_normal().string(); }
 
@@ -106,7 +94,8 @@ std::string HashCache::Hash(const fs::path& file, const FileStat& stat) {
   std::string hash = HashFileXxh3(file);
   ++files_hashed_;
   bytes_hashed_ += stat.size_bytes;
-  if (NowNs() - stat.mtime_ns >= kRacyWindowNs) {
+  // A recently modified file could change again without its stat changing: hashed, but not cached.
+  if (!RecentlyModified(stat)) {
     entries_[key] = {stat, hash};
     added_[key] = {stat, hash};
   }

@@ -25,12 +25,15 @@ struct InputRecord {
   /// Tree only: relative paths of files/folders under `path`; empty = every regular file under it.
   std::vector<std::string> members;
   uint64_t size_bytes = 0;  ///< file size, or sum over the tree's files
-  int64_t mtime_ns = 0;     ///< file only (0 for trees)
+  /// File only (0 for trees, and for a file modified within kRacyWindowNs of being fingerprinted,
+  /// which is then always hashed when checked).
+  int64_t mtime_ns = 0;
   int64_t files = 1;        ///< 1 for a file, file count for a tree
   /// File: HashFileXxh3; tree: TreeDigest over its files (relative path, file hash).
   std::string hash;
   /// Tree only: XXH3-128 over the sorted (relative path, size, mtime_ns) lines, so an untouched
-  /// tree is recognised by stat alone even without the hash cache ("" for files).
+  /// tree is recognised by stat alone even without the hash cache ("" for files, and for a tree with
+  /// a file modified within kRacyWindowNs of being fingerprinted).
   std::string stat_digest;
 };
 

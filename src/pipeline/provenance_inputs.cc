@@ -100,7 +100,10 @@ InputRecord FingerprintTree(const InputSpec& spec, HashCache& cache) {
   for (const TreeFile& file : files) record.size_bytes += file.stat.size_bytes;
   record.mtime_ns = 0;
   record.hash = ContentDigest(files, cache);
-  record.stat_digest = StatDigest(files);
+  // A recently modified file cannot be vouched for by its stat: the tree is then always hashed.
+  const bool racy = std::any_of(files.begin(), files.end(),
+                                [](const TreeFile& file) { return RecentlyModified(file.stat); });
+  record.stat_digest = racy ? "" : StatDigest(files);
   return record;
 }
 
@@ -112,7 +115,8 @@ InputRecord FingerprintFile(const InputSpec& spec, HashCache& cache) {
   record.role = spec.role;
   record.path = path.string();
   record.size_bytes = stat->size_bytes;
-  record.mtime_ns = stat->mtime_ns;
+  // 0 (never equal to a real mtime) for a recently modified file, whose stat cannot vouch for it.
+  record.mtime_ns = RecentlyModified(*stat) ? 0 : stat->mtime_ns;
   record.files = 1;
   record.hash = cache.Hash(path, *stat);
   return record;
@@ -126,7 +130,9 @@ std::string CheckFile(const InputRecord& record, const fs::path& path, bool give
   const std::optional<FileStat> stat = StatFile(path);
   if (!stat) return fs::exists(path) ? "not a regular file" : "missing";
   ++report->files_checked;
-  if (!given && stat->size_bytes == record.size_bytes && stat->mtime_ns == record.mtime_ns) return "";
+  const bool same_stat = record.mtime_ns != 0 && stat->size_bytes == record.size_bytes &&
+                         stat->mtime_ns == record.mtime_ns;
+  if (!given && same_stat) return "";
   if (cache.Hash(path, *stat) == record.hash) return "";
   return given ? "different file given (content changed)" : "content changed";
 }
