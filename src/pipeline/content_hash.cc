@@ -1,14 +1,16 @@
 #include "pipeline/content_hash.h"
 
+#include <fcntl.h>
 #include <sys/stat.h>
+#include <unistd.h>
 #include <xxhash.h>
 
 #include <algorithm>
 #include <cerrno>
 #include <chrono>
-#include <cstdio>
 #include <cstring>
 #include <memory>
+#include <vector>
 
 #include "core/check.h"
 
@@ -41,24 +43,30 @@ StatePtr NewState() {
   return state;
 }
 
-struct FileCloser {
-  void operator()(std::FILE* file) const { std::fclose(file); }
+// Closes a file descriptor on every path out of HashFileXxh3.
+struct FdCloser {
+  int fd;
+  ~FdCloser() { ::close(fd); }
 };
 
 }  // namespace
 
 std::string HashFileXxh3(const std::filesystem::path& file) {
-  std::unique_ptr<std::FILE, FileCloser> in(std::fopen(file.c_str(), "rb"));
-  if (!in) throw InputError(file.string(), Str("cannot open for hashing: ", std::strerror(errno)));
+  const int fd = ::open(file.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) throw InputError(file.string(), Str("cannot open for hashing: ", std::strerror(errno)));
+  const FdCloser closer{fd};
+  // One block per thread, reused: allocating (and faulting in) 1 MiB per file made hashing a tree of
+  // 4 KiB files 5x slower than reading it.
+  thread_local std::vector<char> block(kBlockBytes);
   StatePtr state = NewState();
-  std::vector<char> block(kBlockBytes);
   while (true) {
-    const size_t got = std::fread(block.data(), 1, block.size(), in.get());
-    if (got > 0) XXH3_128bits_update(state.get(), block.data(), got);
-    if (got < block.size()) break;
-  }
-  if (std::ferror(in.get())) {
-    throw InputError(file.string(), Str("read error while hashing: ", std::strerror(errno)));
+    const ssize_t got = ::read(fd, block.data(), block.size());
+    if (got == 0) break;
+    if (got < 0) {
+      if (errno == EINTR) continue;
+      throw InputError(file.string(), Str("read error while hashing: ", std::strerror(errno)));
+    }
+    XXH3_128bits_update(state.get(), block.data(), static_cast<size_t>(got));
   }
   return ToHex(XXH3_128bits_digest(state.get()));
 }
