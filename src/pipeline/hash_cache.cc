@@ -61,6 +61,28 @@ std::string TempSuffix() {
   return ".tmp." + std::to_string(::getpid()) + "." + std::to_string(random());
 }
 
+// Temp file + rename: a concurrent reader sees the old file or the new one, never a torn one.
+void WriteAtomically(const fs::path& file, const std::string& text) {
+  std::error_code error;
+  fs::create_directories(file.parent_path(), error);
+  const fs::path temp = file.string() + TempSuffix();
+  {
+    std::ofstream out(temp, std::ios::binary | std::ios::trunc);
+    out << text;
+    out.flush();
+    if (!out) {
+      fs::remove(temp, error);
+      throw InputError(temp.string(), "cannot write the hash cache");
+    }
+  }
+  fs::rename(temp, file, error);
+  if (error) {
+    const std::string message = error.message();
+    fs::remove(temp, error);
+    throw InputError(file.string(), "cannot replace the hash cache: " + message);
+  }
+}
+
 }  // namespace
 
 fs::path DefaultHashCacheDir() {
@@ -112,30 +134,13 @@ void HashCache::Save() {
     const std::optional<FileStat> now = StatFile(it->first);
     it = (now && SameStat(*now, it->second.stat)) ? std::next(it) : merged.erase(it);
   }
-  std::error_code error;
-  fs::create_directories(cache_dir_, error);
-  const fs::path file = HashCacheFile(cache_dir_);
-  const fs::path temp = file.string() + TempSuffix();
-  {
-    std::ofstream out(temp, std::ios::trunc);
-    out << kHeader << '\n';
-    for (const auto& [path, entry] : merged) {
-      if (path.find('\n') != std::string::npos) continue;  // cannot be stored line-wise
-      out << entry.hash << '\t' << entry.stat.size_bytes << '\t' << entry.stat.mtime_ns << '\t'
-          << entry.stat.inode << '\t' << path << '\n';
-    }
-    out.flush();
-    if (!out) {
-      fs::remove(temp, error);
-      throw InputError(temp.string(), "cannot write the hash cache");
-    }
+  std::string text = std::string(kHeader) + '\n';
+  for (const auto& [path, entry] : merged) {
+    if (path.find('\n') != std::string::npos) continue;  // cannot be stored line-wise
+    text += Str(entry.hash, '\t', entry.stat.size_bytes, '\t', entry.stat.mtime_ns, '\t',
+                entry.stat.inode, '\t', path, '\n');
   }
-  fs::rename(temp, file, error);
-  if (error) {
-    const std::string message = error.message();
-    fs::remove(temp, error);
-    throw InputError(file.string(), "cannot replace the hash cache: " + message);
-  }
+  WriteAtomically(HashCacheFile(cache_dir_), text);
   entries_ = std::move(merged);
   added_.clear();
 }
