@@ -1,9 +1,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
-#include <xxhash.h>
 
 #include <chrono>
-#include <cstdio>
 #include <fstream>
 
 #include "core/check.h"
@@ -70,29 +68,6 @@ class ProvenanceTest : public ::testing::Test {
 
   fs::path root_, cache_dir_;
 };
-
-std::string OneShotHex(const std::string& bytes) {
-  XXH128_canonical_t canonical;
-  XXH128_canonicalFromHash(&canonical, XXH3_128bits(bytes.data(), bytes.size()));
-  std::string hex;
-  char digit[3];
-  for (unsigned char byte : canonical.digest) {
-    std::snprintf(digit, sizeof(digit), "%02x", byte);
-    hex += digit;
-  }
-  return hex;
-}
-
-TEST_F(ProvenanceTest, StreamingFileHashEqualsOneShotXxh3) {
-  std::string bytes(2 * 1024 * 1024 + 12345, '\0');
-  for (size_t i = 0; i < bytes.size(); ++i) bytes[i] = static_cast<char>((i * 2654435761u) >> 13);
-  const fs::path file = Write("big.bin", bytes);
-  EXPECT_EQ(HashFileXxh3(file), OneShotHex(bytes));
-  EXPECT_EQ(HashFileXxh3(file).size(), 32u);
-  EXPECT_EQ(HashBytesXxh3("mocaplabel"), OneShotHex("mocaplabel"));
-  EXPECT_EQ(HashFileXxh3(Write("empty", "")), OneShotHex(""));
-  EXPECT_THROW(HashFileXxh3(root_ / "nope"), InputError);
-}
 
 TEST_F(ProvenanceTest, TreeDigestIgnoresOrderAndSeesOneByte) {
   const std::string digest = TreeDigest({{"a/x", HashBytesXxh3("1")}, {"b", HashBytesXxh3("2")}});
@@ -275,31 +250,6 @@ TEST_F(ProvenanceTest, OverridesCompareTheGivenFile) {
   ASSERT_EQ(unknown.changes.size(), 1u);
   EXPECT_EQ(unknown.changes[0].role, "objects");
   EXPECT_EQ(unknown.changes[0].what, "not recorded in the run");
-}
-
-TEST_F(ProvenanceTest, CacheFileSurvivesCorruptionAndDropsGoneFiles) {
-  const fs::path file = Write("f.bin", "payload");
-  SetAge(file, std::chrono::hours(1));
-  const FileStat stat = *StatFile(file);
-  {
-    HashCache cache(cache_dir_);
-    cache.Hash(file, stat);
-    EXPECT_EQ(cache.files_hashed(), 1);
-  }
-  {
-    std::ofstream(HashCacheFile(cache_dir_), std::ios::app) << "garbage\tline\n\n";
-    HashCache cache(cache_dir_);
-    EXPECT_EQ(cache.Hash(file, stat), HashBytesXxh3("payload"));
-    EXPECT_EQ(cache.files_hashed(), 0);
-  }
-  const fs::path gone = Write("gone.bin", "x");
-  SetAge(gone, std::chrono::hours(1));
-  {
-    HashCache cache(cache_dir_);
-    cache.Hash(gone, *StatFile(gone));
-    fs::remove(gone);
-  }
-  EXPECT_EQ(HashCache(cache_dir_).entries(), 1u);
 }
 
 }  // namespace
