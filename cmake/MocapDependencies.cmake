@@ -20,6 +20,8 @@ endif()
 find_package(ZLIB REQUIRED)
 # Whole-buffer inflate and CRC-32/Adler-32 (SIMD) for the depth PNG decoder and the label encoders.
 pkg_check_modules(LIBDEFLATE REQUIRED IMPORTED_TARGET libdeflate)
+# Content hashes of run inputs (provenance run.json): XXH3-128, streaming API (xxHash >= 0.8).
+pkg_check_modules(LIBXXHASH REQUIRED IMPORTED_TARGET libxxhash>=0.8)
 find_package(OpenEXR 3 REQUIRED CONFIG)
 # Headless rendering: EGL + desktop OpenGL through glvnd (libEGL, libOpenGL), meshes through assimp.
 set(OpenGL_GL_PREFERENCE GLVND)
