@@ -6,6 +6,8 @@ find_package(nlohmann_json 3.10 REQUIRED)
 find_package(OpenCV 4 REQUIRED COMPONENTS core imgproc imgcodecs calib3d)
 find_package(yaml-cpp REQUIRED)
 find_package(CLI11 REQUIRED)
+# The one logging sink (core/log.h); Debian's build uses Debian's libfmt (SPDLOG_FMT_EXTERNAL).
+find_package(spdlog REQUIRED)
 find_package(PkgConfig REQUIRED)
 
 if(BUILD_TESTING)

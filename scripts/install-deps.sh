@@ -6,6 +6,7 @@ set -euo pipefail
 packages=(
   build-essential cmake ninja-build pkg-config git
   libeigen3-dev nlohmann-json3-dev libyaml-cpp-dev libcli11-dev
+  libspdlog-dev libfmt-dev
   libopencv-dev libopenexr-dev zlib1g-dev libdeflate-dev libxxhash-dev libassimp-dev libnanoflann-dev
   libegl-dev libgles-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri
   libusb-1.0-0-dev libfreenect-dev libcpp-httplib-dev

@@ -5,6 +5,7 @@
 #include <deque>
 
 #include "core/check.h"
+#include "core/log.h"
 
 namespace mocap::capture {
 
@@ -108,7 +109,9 @@ void CaptureDaemon::PushSample(CapturedSample&& sample) {
 }
 
 void CaptureDaemon::PushEvent(EventRecord&& event) {
-  std::fprintf(stderr, "capture: %s %s: %s\n", event.kind.c_str(), event.stream.c_str(), event.detail.c_str());
+  // Device events (gaps, reconnects, tracker alerts) matter to whoever watches the daemon, too.
+  Log().log(event.kind == "error" ? spdlog::level::err : spdlog::level::warn, "capture: {} {}: {}", event.kind,
+            event.stream, event.detail);
   std::shared_ptr<Recorder> recorder;
   {
     std::lock_guard lock(session_mutex_);
@@ -137,7 +140,7 @@ nlohmann::json CaptureDaemon::StartSession(const std::string& name) {
   recorder_ = Recorder::Start(recorder_options, BuildManifest());
   session_name_ = name;
   failed_summary_.reset();
-  std::fprintf(stderr, "capture: recording %s\n", dir.c_str());
+  Log().info("capture: recording {}", dir.string());
   return {{"session", name}, {"dir", dir.string()}, {"state", "recording"}};
 }
 
@@ -154,8 +157,8 @@ nlohmann::json CaptureDaemon::StopSession() {
     recorder = std::move(recorder_);
   }
   const RecorderSummary summary = recorder->Stop();
-  std::fprintf(stderr, "capture: stopped %s (%s)\n", summary.session_dir.c_str(),
-               summary.complete ? "complete" : summary.error.c_str());
+  Log().info("capture: stopped {} ({})", summary.session_dir.string(),
+             summary.complete ? std::string("complete") : summary.error);
   return summary.ToJson();
 }
 

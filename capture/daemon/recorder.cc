@@ -1,8 +1,7 @@
 #include "capture/daemon/recorder.h"
 
-#include <cstdio>
-
 #include "core/check.h"
+#include "core/log.h"
 
 namespace mocap::capture {
 
@@ -91,8 +90,7 @@ void Recorder::FlushDropEvents(bool final_flush) {
     pending.swap(unreported_drops_);
   }
   for (const auto& [stream, n] : pending) {
-    std::fprintf(stderr, "capture: %s: %lld item(s) dropped, the session writer is behind\n", stream.c_str(),
-                 static_cast<long long>(n));
+    Log().warn("capture: {}: {} item(s) dropped, the session writer is behind", stream, n);
     EventRecord event{now_ns, "drop", stream,
                       Str(n, " item(s) dropped: the session writer fell behind and the queue was full")};
     if (final_flush) {
@@ -111,7 +109,7 @@ void Recorder::Fail(const std::string& message) {
   if (failed_) return;
   error_ = message;
   failed_ = true;
-  std::fprintf(stderr, "capture: session %s stopped: %s\n", options_.session_dir.c_str(), message.c_str());
+  Log().error("capture: session {} stopped: {}", options_.session_dir.string(), message);
 }
 
 void Recorder::FrameLoop() {

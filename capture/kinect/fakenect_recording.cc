@@ -10,6 +10,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "core/check.h"
+#include "core/log.h"
 #include "capture/kinect/kinect1_depth.h"
 
 namespace mocap::capture {
@@ -89,7 +90,7 @@ FakenectRecordingWriter::~FakenectRecordingWriter() {
   try {
     Close();
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "fakenect recording %s: %s\n", dir_.c_str(), e.what());
+    Log().error("fakenect recording {}: {}", dir_.string(), e.what());
   }
 }
 

@@ -17,6 +17,7 @@
 #include <thread>
 
 #include "core/check.h"
+#include "core/log.h"
 #include "session/durable_file.h"
 #include "session/image_io.h"
 #include "session/record_file.h"
@@ -275,7 +276,7 @@ SessionWriter::~SessionWriter() {
   try {
     Close();
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "mocaplabel: session %s left incomplete: %s\n", impl_->dir.c_str(), e.what());
+    Log().error("session {} left incomplete: {}", impl_->dir.string(), e.what());
   }
 }
 

@@ -72,7 +72,7 @@ class SessionWriter {
   /// Stores (replaces) the clock fit of a device; rewrites manifest.json atomically.
   void UpdateClockFit(const std::string& device, const ClockFit& fit);
   /// Waits for pending images, syncs everything and marks the session complete. Idempotent. The
-  /// destructor closes too (reporting a failure on stderr, since it cannot throw).
+  /// destructor closes too (reporting a failure through the log, core/log.h, since it cannot throw).
   void Close();
 
   const std::filesystem::path& dir() const;
