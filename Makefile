@@ -4,33 +4,39 @@ ASAN_DIR  ?= build-asan
 JOBS      ?= $(shell nproc)
 CMAKE_FLAGS ?=
 
-.PHONY: all deps build build-asan demo test test-unit test-asan bench clean
+.PHONY: all deps configure build build-cli build-asan demo test test-unit test-asan bench clean
 
 all: build
 
 deps:
 	@scripts/install-deps.sh
 
-build: deps
+configure: deps
 	@cmake -S . -B $(BUILD_DIR) -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo $(CMAKE_FLAGS) >/dev/null
+
+build: configure
 	@cmake --build $(BUILD_DIR) -j $(JOBS)
+
+# Only what the demo runs: the mocaplabel binary and the libraries it links, not the tests and benchmarks.
+build-cli: configure
+	@cmake --build $(BUILD_DIR) -j $(JOBS) --target mocaplabel
 
 build-asan: deps
 	@cmake -S . -B $(ASAN_DIR) -G Ninja -DCMAKE_BUILD_TYPE=Debug -DMOCAP_SANITIZE=ON \
 	  -DBUILD_BENCHMARKS=OFF $(CMAKE_FLAGS) >/dev/null
 	@cmake --build $(ASAN_DIR) -j $(JOBS)
 
-demo: build
+demo: build-cli
 	scripts/demo.sh $(BUILD_DIR)/src/cli/mocaplabel demo-out
 
 test-unit: build
 	ctest --test-dir $(BUILD_DIR) --output-on-failure -j $(JOBS)
 
 # Unit tests again under AddressSanitizer + UndefinedBehaviorSanitizer (end-to-end runs excluded: slow).
-# Tests that render through EGL run without LeakSanitizer: Mesa's llvmpipe keeps process-lifetime
+# Tests that render through EGL (in process, or in the mocaplabel processes they start) run without LeakSanitizer: Mesa's llvmpipe keeps process-lifetime
 # allocations made from JIT code and unloaded driver modules, which LeakSanitizer cannot attribute to a
 # library and so cannot suppress. AddressSanitizer and UBSan still check them. (Selected by test binary.)
-EGL_TESTS = ^(render_egl_test|label_test|labeller_test|validate_egl_test)/
+EGL_TESTS = ^(render_egl_test|label_test|labeller_test|validate_egl_test|pipeline_run_test|pipeline_cli_test)/
 SAN_ENV = ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 test-asan: build-asan
 	$(SAN_ENV) ctest --test-dir $(ASAN_DIR) --output-on-failure -j $(JOBS) -LE 'e2e|slow' -E '$(EGL_TESTS)'

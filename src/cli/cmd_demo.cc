@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.h"
+#include "cli/progress_flag.h"
 #include "cli/scenario_yaml.h"
 #include "core/check.h"
 #include "pipeline/demo.h"
@@ -60,7 +61,11 @@ int RunDemo(int argc, char** argv) {
   app.add_option("--threads", options.threads, "worker threads, each with its own EGL context (0: one per core)");
   app.add_option("--platform", platform, "EGL platform: auto, surfaceless or device");
   app.add_flag("--json", json, "print one JSON document on stdout");
+  ProgressFlags progress_flags;
+  AddProgressFlags(app, progress_flags);
   CLI11_PARSE(app, argc, argv);
+  const std::unique_ptr<ProgressSink> progress = ApplyProgressFlags(progress_flags);
+  options.progress = progress.get();
   options.out_dir = out_dir;
   options.context.platform = EglPlatformFromString(platform);
   const sim::Scenario scenario =

@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.h"
+#include "cli/progress_flag.h"
 #include "core/check.h"
 #include "pipeline/label_stage.h"
 
@@ -53,7 +54,11 @@ int RunLabel(int argc, char** argv) {
   app.add_option("--cull-back-faces", culling,
                  "auto (meshes found closed and outward-wound), always or never; objects.yaml cull_back_faces wins");
   app.add_flag("--json", json, "print one JSON summary on stdout");
+  ProgressFlags progress_flags;
+  AddProgressFlags(app, progress_flags);
   CLI11_PARSE(app, argc, argv);
+  const std::unique_ptr<ProgressSink> progress = ApplyProgressFlags(progress_flags);
+  request.progress = progress.get();
 
   request.session_dir = session_dir;
   request.rig_file = rig_file;

@@ -8,6 +8,7 @@
 
 #include "capture/kinect/fakenect_frame_tap.h"
 #include "cli/commands.h"
+#include "cli/progress_flag.h"
 #include "cli/scenario_yaml.h"
 #include "core/check.h"
 #include "pipeline/object_library.h"
@@ -65,6 +66,7 @@ int RunSimCheck(const std::string& scenario_path, const std::string& objects_pat
 }
 
 struct RecordFlags {
+  ProgressFlags progress;
   std::string scenario, objects, out, platform = "auto";
   int threads = 0;
   bool fakenect = false;
@@ -82,6 +84,8 @@ int RunSimRecord(const RecordFlags& flags, bool json) {
   if (flags.fakenect) fakenect = std::make_unique<capture::FakenectFrameTap>(std::filesystem::path(flags.out) / "fakenect");
   options.frame_tap = fakenect.get();
   options.context.platform = EglPlatformFromString(flags.platform);
+  const std::unique_ptr<ProgressSink> progress = ApplyProgressFlags(flags.progress);
+  options.progress = progress.get();
   const pipeline::SimRecordResult recorded = pipeline::RecordSimulatedSession(scenario, library ? &*library : nullptr, options);
   const sim::RecordResult& r = recorded.record;
   const nlohmann::json summary{{"session", r.session_dir.string()},   {"frames", r.frames},
@@ -128,6 +132,7 @@ int RunSim(int argc, char** argv) {
   record->add_option("--platform", record_flags.platform, "EGL platform: auto, surfaceless or device");
   record->add_flag("--fakenect", record_flags.fakenect, "also write the Kinect v1 frames as a fakenect recording (S/fakenect)");
   record->add_flag("--json", json, "print one JSON document");
+  AddProgressFlags(*record, record_flags.progress);
   CLI11_PARSE(app, argc, argv);
   if (meshes->parsed()) return RunSimMeshes(out_dir, json);
   if (record->parsed()) return RunSimRecord(record_flags, json);

@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.h"
+#include "cli/progress_flag.h"
 #include "core/check.h"
 #include "pipeline/validate_stage.h"
 #include "pipeline/json_read.h"
@@ -54,7 +55,11 @@ int RunValidate(int argc, char** argv) {
   app.add_option("--threads", options.threads, "worker threads (0: one per core)");
   app.add_option("--platform", platform, "EGL platform for --crops renderer: auto, surfaceless or device");
   app.add_flag("--json", json, "print validation.json on stdout");
+  ProgressFlags progress_flags;
+  AddProgressFlags(app, progress_flags);
   CLI11_PARSE(app, argc, argv);
+  const std::unique_ptr<ProgressSink> progress = ApplyProgressFlags(progress_flags);
+  request.progress = progress.get();
 
   options.labels_dir = labels_dir.empty() ? fs::path(session_dir) / "labels" : fs::path(labels_dir);
   request.session_dir = session_dir;

@@ -157,6 +157,7 @@ void RunWorkers(const SessionReader& session, const std::vector<LabelObject>& ob
   std::vector<std::pair<size_t, int64_t>> work;
   for (size_t j = 0; j < jobs.size(); ++j)
     for (int64_t i = jobs[j].begin; i < jobs[j].end; ++i) work.emplace_back(j, i);
+  Progress progress(options.progress, "label", static_cast<int64_t>(work.size()), "frames");
   std::atomic<size_t> next{0};
   std::atomic<bool> failed{false};
   std::exception_ptr error;
@@ -175,8 +176,10 @@ void RunWorkers(const SessionReader& session, const std::vector<LabelObject>& ob
       Worker worker{renderer, handles, {}, {}, {}};
       const Clock::time_point begin = Clock::now();
       const double begin_cpu = ProcessCpuSeconds();
-      for (size_t w = next++; w < work.size() && !failed; w = next++)
+      for (size_t w = next++; w < work.size() && !failed; w = next++) {
         LabelFrame(session, objects, worker, jobs[work[w].first], work[w].second, options, sink);
+        progress.Advance();
+      }
       const Clock::time_point end = Clock::now();
       const double end_cpu = ProcessCpuSeconds();
       std::lock_guard lock(mutex);
@@ -258,6 +261,7 @@ LabelSummary LabelSession(const SessionReader& session, const std::vector<LabelO
   }
   sink.Begin(cameras, options.output);
   LabelSummary summary;
+  summary.cameras = cameras;
   summary.culling = DecideCulling(objects, meshes, options.renderer.back_face_culling);
   RunWorkers(session, objects, meshes, jobs, options, sink, start, summary);
   Tally(jobs, summary);

@@ -15,6 +15,7 @@
 #include "label/rig.h"
 #include "label/visibility.h"
 #include "render/render_context.h"
+#include "core/progress.h"
 #include "render/renderer.h"
 #include "session/reader.h"
 
@@ -33,6 +34,7 @@ struct LabelOptions {
   /// override it).
   RendererOptions renderer{.back_face_culling = BackFaceCulling::kAuto};
   RenderContextOptions context;
+  ProgressSink* progress = nullptr;  ///< frames done / total (core/progress.h); not owned, may be null
   void check() const;
 };
 
@@ -57,6 +59,7 @@ struct ObjectCulling {
 };
 
 struct LabelSummary {
+  std::vector<std::string> cameras;  ///< labelled, in labels.jsonl's order
   int64_t frames = 0;             ///< camera records labelled (colour or depth present), in the frame range
   int64_t frames_skipped = 0;     ///< records whose image files are missing
   int64_t records = 0;            ///< labels.jsonl lines (frames x instances)

@@ -9,6 +9,7 @@
 #include "pipeline/publish.h"
 #include "pipeline/record_stage.h"
 #include "pipeline/rig.h"
+#include "pipeline/run_provenance.h"
 #include "pipeline/visible_masks.h"
 #include "pipeline/yaml_write.h"
 #include "session/reader.h"
@@ -148,10 +149,14 @@ DemoResult RunDemo(const DemoOptions& options, const std::vector<Stage>& stages,
   c.out_dir = output.dir();
   c.threads = options.threads;
   c.render_context = options.context;
+  c.progress = options.progress;
   c.command = std::move(command);
   result.seconds_per_stage = RunStages(stages, c);
   if (!c.results.count("capture")) c.notes.push_back("recorded with the session writer directly (no capture stage ran)");
   result.summary = DemoJson(c, result.seconds_per_stage, expected_frames, scenario_name);
+  WriteProvenance(output.dir(), "demo", c.command,
+                  {{"scenario", scenario_name}, {"frames", expected_frames}, {"validate_frame_stride", options.validate_frame_stride}},
+                  {});
   WriteTextAtomically(output.dir() / "demo.json", result.summary.dump(2) + "\n");
   output.Publish();  // also rewrites the paths in demo.json to the published folder
   result.summary = nlohmann::json::parse(std::ifstream(options.out_dir / "demo.json"));

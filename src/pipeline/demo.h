@@ -30,6 +30,7 @@ struct DemoOptions {
   /// default keeps the default demo within its time budget on 2 cores (docs/demo.md).
   int validate_frame_stride = 15;
   RenderContextOptions context;
+  ProgressSink* progress = nullptr;  ///< each stage's progress; not owned, may be null
   void check() const;  ///< throws InputError
 };
 

@@ -34,6 +34,7 @@ nlohmann::json LabelManifestJson(const LabelSummary& s, const fs::path& session_
   return {{"session", fs::absolute(session_dir).lexically_normal().string()},
           {"out", fs::absolute(out_dir).lexically_normal().string()},
           {"complete", true},
+          {"cameras", s.cameras},
           {"frames", s.frames},
           {"frames_skipped", s.frames_skipped},
           {"records", s.records},
@@ -51,26 +52,49 @@ nlohmann::json LabelManifestJson(const LabelSummary& s, const fs::path& session_
           {"stage_cpu_seconds", StagesJson(s.stages_cpu)}};
 }
 
+/// A rig camera the session does not have would be ignored and the recorded calibration used: a typo
+/// in a camera name must not silently undo a calibration fix.
+static void CheckRigCameras(const Rig& rig, const SessionReader& session) {
+  std::string names;
+  for (const CameraStreamInfo& c : session.manifest().cameras) names += (names.empty() ? "" : ", ") + c.name;
+  for (const RigCameraCalibration& c : rig.cameras)
+    if (!session.manifest().FindCamera(c.name))
+      throw InputError(rig.file.string(), Str("camera '", c.name, "' is not in the session ", session.dir().string(),
+                                              " (its cameras: ", names.empty() ? "none" : names, ")"));
+}
+
 LabelRunResult RunLabel(const LabelRunRequest& request) {
   const SessionReader session = SessionReader::Open(request.session_dir);
-  const LabelRig rig = request.rig_file.empty() ? LabelRig{} : LabelRigOf(ReadRig(request.rig_file));
+  LabelRig rig;
+  if (!request.rig_file.empty()) {
+    const Rig file = ReadRig(request.rig_file);
+    CheckRigCameras(file, session);
+    rig = LabelRigOf(file);
+  }
   const fs::path objects_file = FindObjectsFile(request.session_dir, request.objects_file);
   const ObjectLibrary library = ReadObjectLibrary(objects_file);
   LabelOptions options = request.label;
   options.frame_begin = request.shard.begin;
   options.frame_end = request.shard.end;
+  if (request.progress) options.progress = request.progress;
+  RunRecord record{request.command, {{"objects", objects_file, false, {}}}, request.shard.ToJson()};
+  if (!request.rig_file.empty()) record.inputs.push_back({"rig", request.rig_file, false, {}});
   LabelRunResult result;
-  result.summary = WriteLabelRun(session, LabelObjectsOf(library), rig, options, request.out_dir);
+  result.summary = WriteLabelRun(session, LabelObjectsOf(library), rig, options, request.out_dir, record);
   result.out_dir = request.out_dir;
   return result;
 }
 
 LabelSummary WriteLabelRun(const SessionReader& session, const std::vector<LabelObject>& objects, const LabelRig& rig,
-                           const LabelOptions& options, const fs::path& out) {
+                           const LabelOptions& options, const fs::path& out, const RunRecord& record) {
   options.check();
   PartialOutput output(out, "label_manifest.json", "label");
   LabelRunWriter writer(output.dir());
   const LabelSummary summary = LabelSession(session, objects, rig, options, writer);
+  std::vector<InputSpec> inputs = {SessionInput(session.dir())};
+  inputs.insert(inputs.end(), record.inputs.begin(), record.inputs.end());
+  for (InputSpec& mesh : MeshInputs(objects)) inputs.push_back(std::move(mesh));
+  WriteProvenance(output.dir(), "label", record.command, ToJson(options), inputs, record.shard);
   writer.Finish(LabelManifestJson(summary, session.dir(), out));
   output.Publish();
   return summary;

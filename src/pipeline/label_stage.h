@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "label/labeller.h"
+#include "pipeline/run_provenance.h"
 #include "pipeline/stage.h"
 #include "session/reader.h"
 
@@ -36,8 +37,9 @@ LabelRunResult RunLabel(const LabelRunRequest& request);
 
 /// The labeller into a label run at `out`, published whole (what RunLabel does once it has read its
 /// inputs; for callers that hold the objects and rig in memory).
+/// run.json records the session, every mesh and `record`'s inputs (the rig and objects files).
 LabelSummary WriteLabelRun(const SessionReader& session, const std::vector<LabelObject>& objects, const LabelRig& rig,
-                           const LabelOptions& options, const std::filesystem::path& out);
+                           const LabelOptions& options, const std::filesystem::path& out, const RunRecord& record = {});
 
 /// label_manifest.json of a finished run.
 nlohmann::json LabelManifestJson(const LabelSummary& summary, const std::filesystem::path& session_dir,

@@ -8,6 +8,7 @@
 #include <set>
 
 #include "core/check.h"
+#include "core/utc_time.h"
 #include "pipeline/build_info.h"
 
 namespace mocap::pipeline {
@@ -92,15 +93,6 @@ json ShardFromJson(const json& shard, const std::string& where) {
 }
 
 }  // namespace
-
-std::string NowUtcIso8601() {
-  const std::time_t now = std::time(nullptr);
-  std::tm utc{};
-  gmtime_r(&now, &utc);
-  char text[32];
-  std::strftime(text, sizeof(text), "%Y-%m-%dT%H:%M:%SZ", &utc);
-  return text;
-}
 
 RunProvenance NewProvenance(std::string kind, std::vector<std::string> command, json options) {
   const BuildInfo& build = CurrentBuildInfo();

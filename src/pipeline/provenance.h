@@ -63,9 +63,6 @@ struct RunProvenance {
 /// A provenance with version, commit, dirty flag and created_utc (now) filled in.
 RunProvenance NewProvenance(std::string kind, std::vector<std::string> command, nlohmann::json options);
 
-/// UTC time now as ISO 8601 with seconds, e.g. 2026-12-02T10:00:00Z.
-std::string NowUtcIso8601();
-
 nlohmann::json ToJson(const InputRecord& input);
 nlohmann::json ToJson(const RunProvenance& run);
 /// Strict: a missing, mistyped or unknown field is an InputError(where, ...) naming the field.

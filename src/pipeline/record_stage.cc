@@ -83,6 +83,7 @@ Stage MakeRecordStage(const sim::Scenario& scenario) {
     options.out_dir = c.out_dir / "simulated";
     options.threads = c.threads;
     options.context = c.render_context;
+    options.progress = c.progress;
     const SimRecordResult r = RecordSimulatedSession(scenario, nullptr, options);
     c.session_dir = r.record.session_dir;
     c.rig_file = r.rig_file;

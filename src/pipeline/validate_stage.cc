@@ -20,22 +20,30 @@ namespace fs = std::filesystem;
 SessionValidation RunValidate(const ValidateRunRequest& request) {
   const SessionReader session = SessionReader::Open(request.session_dir);
   const LabelRun labels = LabelRun::Read(request.labels_dir);
-  const ObjectLibrary library = ReadObjectLibrary(FindObjectsFile(request.session_dir, request.objects_file));
+  const fs::path objects_file = FindObjectsFile(request.session_dir, request.objects_file);
+  const ObjectLibrary library = ReadObjectLibrary(objects_file);
   SessionCheckOptions options = request.check;
   options.labels_dir = request.labels_dir;
   options.frame_begin = request.shard.begin;
   options.frame_end = request.shard.end;
+  if (request.progress) options.progress = request.progress;
   for (const std::string& name : request.skip_object_names)
     if (const LibraryObject* o = library.Find(name)) options.skip_objects.push_back(o->id);
+  const RunRecord record{request.command, {{"objects", objects_file, false, {}}}, request.shard.ToJson()};
   return ValidateIntoRun(session, ValidationObjectsOf(library), LabelRunViewOf(labels, request.shard.begin, request.shard.end),
-                         options, request.out_dir);
+                         options, request.out_dir, record);
 }
 
 SessionValidation ValidateIntoRun(const SessionReader& session, const std::vector<ValidationObject>& objects,
-                                  LabelRunView labels, const SessionCheckOptions& options, const fs::path& out) {
+                                  LabelRunView labels, const SessionCheckOptions& options, const fs::path& out,
+                                  const RunRecord& record) {
   options.check();
   PartialOutput output(out, "validation.json", "validation");
   const SessionValidation validation = CheckSession(session, objects, std::move(labels), options);
+  std::vector<InputSpec> inputs = {SessionInput(session.dir()), RunFolderInput("labels", options.labels_dir)};
+  inputs.insert(inputs.end(), record.inputs.begin(), record.inputs.end());
+  for (InputSpec& mesh : MeshInputs(objects)) inputs.push_back(std::move(mesh));
+  WriteProvenance(output.dir(), "validation", record.command, ToJson(options), inputs, record.shard);
   WriteValidationRun(validation, options, session.dir(), output.dir(), out);
   output.Publish();
   return validation;

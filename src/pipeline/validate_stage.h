@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "pipeline/run_provenance.h"
 #include "pipeline/stage.h"
 #include "session/reader.h"
 #include "validate/session_check.h"
@@ -29,8 +30,10 @@ SessionValidation RunValidate(const ValidateRunRequest& request);
 
 /// CheckSession, then the validation run written into <out>.partial and published (RunValidate once it
 /// has read its inputs; for callers that hold the objects in memory).
+/// run.json records the session, the label run, every mesh and `record`'s inputs.
 SessionValidation ValidateIntoRun(const SessionReader& session, const std::vector<ValidationObject>& objects,
-                                  LabelRunView labels, const SessionCheckOptions& options, const std::filesystem::path& out);
+                                  LabelRunView labels, const SessionCheckOptions& options, const std::filesystem::path& out,
+                                  const RunRecord& record = {});
 
 /// The validate stage: checks context.labels_dir against context.session_dir into
 /// context.out_dir/validation, every `frame_stride`-th frame, leaving out `skip_objects` (names).

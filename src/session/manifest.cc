@@ -245,4 +245,15 @@ SessionManifest LoadManifest(const fs::path& session_dir) {
   return ManifestFromJson(json, path.string());
 }
 
+fs::path CameraStreamFile(const std::string& camera) { return fs::path("cameras") / camera / "frames.jsonl"; }
+
+fs::path TrackerStreamFile(const std::string& tracker) { return fs::path("trackers") / tracker / "samples.jsonl"; }
+
+std::vector<fs::path> SessionStreamFiles(const SessionManifest& manifest) {
+  std::vector<fs::path> files = {"manifest.json"};
+  for (const CameraStreamInfo& c : manifest.cameras) files.push_back(CameraStreamFile(c.name));
+  for (const TrackerStreamInfo& t : manifest.trackers) files.push_back(TrackerStreamFile(t.name));
+  return files;
+}
+
 }  // namespace mocap

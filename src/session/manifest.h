@@ -68,6 +68,13 @@ PinholeCamera PinholeFromJson(const nlohmann::json& json, const std::string& whe
 nlohmann::json ToJson(const ClockFit& fit);
 ClockFit ClockFitFromJson(const nlohmann::json& json, const std::string& where);
 
+/// The session's stream files, relative to its folder (docs/session-format.md "Layout").
+std::filesystem::path CameraStreamFile(const std::string& camera);    ///< cameras/<camera>/frames.jsonl
+std::filesystem::path TrackerStreamFile(const std::string& tracker);  ///< trackers/<tracker>/samples.jsonl
+/// manifest.json and every stream file of the manifest's cameras and trackers: what a session's content
+/// is, besides the images its camera records name (provenance hashes these).
+std::vector<std::filesystem::path> SessionStreamFiles(const SessionManifest& manifest);
+
 /// Writes manifest.json atomically (temporary file, fsync, rename, fsync of the folder).
 void SaveManifest(const std::filesystem::path& session_dir, const SessionManifest& manifest);
 /// Reads and checks <session_dir>/manifest.json.

@@ -33,7 +33,7 @@ SessionReader SessionReader::Open(const fs::path& dir, const SessionReaderOption
   reader.manifest_ = LoadManifest(dir);
   for (const auto& camera : reader.manifest_.cameras) {
     const fs::path camera_dir = dir / "cameras" / camera.name;
-    auto records = ReadStream<CameraFrameRecord>(dir, fs::path("cameras") / camera.name / "frames.jsonl", options,
+    auto records = ReadStream<CameraFrameRecord>(dir, CameraStreamFile(camera.name), options,
                                                  CameraFrameRecordFromJson, &reader.diagnostics_);
     CameraStream& stream = reader.cameras_[camera.name];
     stream.entries.reserve(records.size());
@@ -46,7 +46,7 @@ SessionReader SessionReader::Open(const fs::path& dir, const SessionReaderOption
     }
   }
   for (const auto& tracker : reader.manifest_.trackers) {
-    const fs::path file = fs::path("trackers") / tracker.name / "samples.jsonl";
+    const fs::path file = TrackerStreamFile(tracker.name);
     TrackerStream& stream = reader.trackers_[tracker.name];
     stream.records = ReadStream<TrackerRecord>(dir, file, options, TrackerRecordFromJson, &reader.diagnostics_);
     for (size_t i = 0; i < stream.records.size(); ++i) {

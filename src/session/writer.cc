@@ -17,6 +17,7 @@
 #include <thread>
 
 #include "core/check.h"
+#include "core/utc_time.h"
 #include "core/log.h"
 #include "session/durable_file.h"
 #include "session/image_io.h"
@@ -45,15 +46,6 @@ struct Job {
   std::exception_ptr error;
   std::function<std::string()> work;  ///< produces `line` (runs on an encoder thread)
 };
-
-std::string NowUtcIso() {
-  const std::time_t now = std::time(nullptr);
-  std::tm utc{};
-  gmtime_r(&now, &utc);
-  char text[32];
-  std::strftime(text, sizeof(text), "%Y-%m-%dT%H:%M:%SZ", &utc);
-  return text;
-}
 
 /// Moves a finished temporary file into place; the record is appended only after this.
 void RenameIntoPlace(const fs::path& temp, const fs::path& path) {
@@ -244,7 +236,7 @@ std::unique_ptr<SessionWriter> SessionWriter::Create(const fs::path& dir, const 
   impl->manifest = manifest;
   impl->manifest.complete = false;
   impl->manifest.format_version = kSessionFormatVersion;
-  if (impl->manifest.created_utc.empty()) impl->manifest.created_utc = NowUtcIso();
+  if (impl->manifest.created_utc.empty()) impl->manifest.created_utc = NowUtcIso8601();
   impl->options = options;
   fs::create_directories(dir, error);
   if (error) throw InputError(dir.string(), Str("cannot create the session folder: ", error.message()));

@@ -262,14 +262,19 @@ SessionValidation CheckSession(const SessionReader& session, const std::vector<V
   SessionValidation out;
   if (!records.empty()) {
     const std::map<int, ObjectModel> models = LoadModels(objects, records, options);
+    Progress progress(options.progress, "validate", static_cast<int64_t>(records.size()), "records");
     if (options.track) {
       const auto groups = GroupBy(records, [](const RecordCheck& r) { return std::make_pair(r.camera, r.instance); });
-      ParallelFor(static_cast<int>(groups.size()), options.threads,
-                  [&](int g) { CheckTrack(session, labels, models, options, records, groups[g]); });
+      ParallelFor(static_cast<int>(groups.size()), options.threads, [&](int g) {
+        CheckTrack(session, labels, models, options, records, groups[g]);
+        progress.Advance(static_cast<int64_t>(groups[g].size()));
+      });
     } else {
       const auto groups = GroupBy(records, [](const RecordCheck& r) { return std::make_pair(r.camera, r.index); });
-      ParallelFor(static_cast<int>(groups.size()), options.threads,
-                  [&](int g) { CheckFrame(session, labels, models, options, records, groups[g]); });
+      ParallelFor(static_cast<int>(groups.size()), options.threads, [&](int g) {
+        CheckFrame(session, labels, models, options, records, groups[g]);
+        progress.Advance(static_cast<int64_t>(groups[g].size()));
+      });
     }
   }
   for (RecordCheck& r : records) {

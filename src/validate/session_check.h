@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "core/progress.h"
 #include "render/render_context.h"
 #include "session/reader.h"
 #include "validate/label_check.h"
@@ -63,6 +64,7 @@ struct SessionCheckOptions {
   std::vector<int> skip_objects;
   ValidateOptions validate;
   RenderContextOptions context;  ///< for CropBackend::kRenderer
+  ProgressSink* progress = nullptr;  ///< records checked / total (core/progress.h); not owned, may be null
   void check() const;            ///< throws InputError
 };
 

@@ -1,6 +1,7 @@
 // The object library (pipeline/object_library.h): its strict reader, its writer, and the views the
 // validator and the simulator take of it.
 #include "pipeline/object_library.h"
+#include "pipeline/record_stage.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -77,6 +78,16 @@ TEST(ValidationObjects, TheShippedLibraryDeclaresTheFunnelAndTableSymmetries) {
     symmetric += o.symmetry.has_value();
   }
   EXPECT_EQ(symmetric, 2);
+}
+
+TEST(ObjectLibrary, CommittedObjectsYamlIsWhatTheWriterWrites) {
+  const fs::path dir = fs::temp_directory_path() / ("mocaplabel_builtin_library_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const fs::path written = pipeline::WriteBuiltInObjectLibrary(dir);
+  std::ifstream a(written), b(fs::path(MOCAP_SOURCE_DIR) / "meshes" / "objects.yaml");
+  const std::string generated((std::istreambuf_iterator<char>(a)), {}), committed((std::istreambuf_iterator<char>(b)), {});
+  EXPECT_EQ(generated, committed) << "meshes/objects.yaml is stale: regenerate with `mocaplabel sim meshes --out meshes`";
+  fs::remove_all(dir);
 }
 
 TEST(ObjectLibrary, CommittedObjectsYamlIsTheBuiltInLibrary) {

@@ -65,7 +65,7 @@ TEST(Rig, StrictReaderNamesFileLineAndKey) {
   EXPECT_NE(RigError(Replace(kRig, "width: 640", "width: -640")).find("rig.yaml:9"), std::string::npos);
   EXPECT_NE(RigError(kRig + "  - name: kinect1\n").find("appears twice"), std::string::npos);
   EXPECT_NE(RigError(kRig + "capture:\n  sessions_dir: s\n").find("neither a tracker nor a camera"), std::string::npos);
-  EXPECT_NE(RigError(kRig + "capture:\n  tracker: {tcp: 'host:80x'}\n").find("rig.yaml:12"), std::string::npos);
+  EXPECT_NE(RigError(kRig + "capture:\n  tracker: {tcp: 'host:80x'}\n").find("rig.yaml:11"), std::string::npos);
 }
 
 TEST(Rig, WrittenAndReadBackIsTheSameRig) {

@@ -144,6 +144,7 @@ int64_t RenderAndWrite(const Scenario& scenario, const SimObjects& library, cons
   std::atomic<int> next{0};
   std::atomic<int64_t> invalid{0};
   OrderedSink sink;
+  Progress progress(options.progress, "sim record", frames, "frames");
   std::exception_ptr error;
   std::mutex error_mutex;
   auto work = [&] {
@@ -154,6 +155,7 @@ int64_t RenderAndWrite(const Scenario& scenario, const SimObjects& library, cons
         invalid += frame.invalid_depth_pixels;
         WriteTruthInstances(frame, out.truth_dir);
         sink.Submit(i, [&] { WriteFrame(frame, truth.frames[static_cast<size_t>(i)], out); });
+        progress.Advance();
       }
     } catch (...) {
       std::lock_guard lock(error_mutex);

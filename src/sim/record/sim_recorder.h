@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "core/progress.h"
 #include "render/render_context.h"
 #include "sim/record/frame_tap.h"
 #include "sim/sim_objects.h"
@@ -32,6 +33,7 @@ struct RecordOptions {
   /// Also fed every camera frame in order (Kinect v1 scenarios only); not owned, may be null.
   FrameTap* frame_tap = nullptr;
   RenderContextOptions context;
+  ProgressSink* progress = nullptr;  ///< frames rendered / total (core/progress.h); not owned, may be null
   /// Called with the result (session, truth and library folders, names, truth filled) after the frames
   /// are written and before the session is closed: files written here (the pipeline's rig.yaml and
   /// objects.yaml of the given calibration) exist whenever the session is complete.
