@@ -67,13 +67,13 @@ void RenameIntoPlace(const fs::path& temp, const fs::path& path) {
 /// Places an already-encoded file: a hard link when the file system allows, else a copy.
 void LinkOrCopy(const fs::path& source, const fs::path& path) {
   const fs::path temp = fs::path(path).concat(".tmp");
-  std::error_code error;
+  std::error_code error, ignored;  // `ignored`: a cleanup must not overwrite the reason reported
   fs::create_hard_link(source, temp, error);
   if (error) {
-    fs::remove(temp, error);
+    fs::remove(temp, ignored);
     fs::copy_file(source, temp, fs::copy_options::overwrite_existing, error);
     if (error) {
-      fs::remove(temp, error);
+      fs::remove(temp, ignored);
       throw InputError(path.string(), Str("cannot copy ", source.string(), ": ", error.message()));
     }
   }
@@ -106,6 +106,7 @@ struct SessionWriter::Impl {
   int pending_frames = 0;
   int64_t records_written = 0;
   std::exception_ptr error;  ///< first failure; the writer refuses further writes after it
+  bool error_raised = false;  ///< `error` has reached a caller, so the destructor need not log it again
   bool stopping = false;
   bool closed = false;
   std::mutex commit_mutex;  ///< serialises appends, so they follow submission order
@@ -117,7 +118,9 @@ struct SessionWriter::Impl {
   void Submit(std::shared_ptr<Job> job);
   void SyncAll();
   void ThrowIfFailed() {
-    if (error) std::rethrow_exception(error);
+    if (!error) return;
+    error_raised = true;
+    std::rethrow_exception(error);
   }
 };
 
@@ -276,7 +279,8 @@ SessionWriter::~SessionWriter() {
   try {
     Close();
   } catch (const std::exception& e) {
-    Log().error("session {} left incomplete: {}", impl_->dir.string(), e.what());
+    // An error the owner already caught (and reported) would otherwise be printed twice.
+    if (!impl_->error_raised) Log().error("session {} left incomplete: {}", impl_->dir.string(), e.what());
   }
 }
 
