@@ -11,6 +11,8 @@
 #include <cstring>
 #include <ctime>
 #include <deque>
+#include <fstream>
+#include <iterator>
 #include <functional>
 #include <map>
 #include <mutex>
@@ -64,18 +66,27 @@ void RenameIntoPlace(const fs::path& temp, const fs::path& path) {
   }
 }
 
+/// Copies `source` to `temp` with our own writes: std::filesystem::copy_file reports a sendfile that
+/// ran out of space as EIO (or, after a cleanup, as "Success"), and the user needs the real reason.
+void CopyReportingErrno(const fs::path& source, const fs::path& temp, const fs::path& path) {
+  std::ifstream in(source, std::ios::binary);
+  const std::string bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  if (!in.good() && !in.eof()) throw InputError(path.string(), Str("cannot copy ", source.string(), ": read failed"));
+  try {
+    WriteFileRemovingOnFailure(temp, bytes, false);
+  } catch (const InputError& e) {
+    throw InputError(path.string(), Str("cannot copy ", source.string(), ": ", e.what()));
+  }
+}
+
 /// Places an already-encoded file: a hard link when the file system allows, else a copy.
 void LinkOrCopy(const fs::path& source, const fs::path& path) {
   const fs::path temp = fs::path(path).concat(".tmp");
-  std::error_code error, ignored;  // `ignored`: a cleanup must not overwrite the reason reported
+  std::error_code error;
   fs::create_hard_link(source, temp, error);
   if (error) {
-    fs::remove(temp, ignored);
-    fs::copy_file(source, temp, fs::copy_options::overwrite_existing, error);
-    if (error) {
-      fs::remove(temp, ignored);
-      throw InputError(path.string(), Str("cannot copy ", source.string(), ": ", error.message()));
-    }
+    fs::remove(temp, error);
+    CopyReportingErrno(source, temp, path);
   }
   RenameIntoPlace(temp, path);
 }
