@@ -57,6 +57,9 @@ TumImageList ReadTumImageList(const std::filesystem::path& list_file, const std:
     TumImageEntry entry;
     entry.stamp_ns = NanosecondsFromSeconds(fields[0], where);
     entry.stamp_text = std::string(fields[0]);
+    // The name ends up in messages about the image; one with control bytes is no TUM file name.
+    if (std::any_of(fields[1].begin(), fields[1].end(), [](char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7F; }))
+      throw InputError(where, Str("file name ", QuoteForMessage(fields[1]), " contains control characters"));
     entry.relative_path = std::string(fields[1]);
     entry.line = line_number;
     entry.exists = std::filesystem::is_regular_file(sequence_dir / entry.relative_path);
