@@ -26,10 +26,12 @@ void ParseIntrinsics(const std::string& text, import::TumImportOptions& options)
   PinholeCamera camera;
   camera.width = 640;
   camera.height = 480;
-  camera.fx = import::ParseDouble(fields[0], "--intrinsics fx");
-  camera.fy = import::ParseDouble(fields[1], "--intrinsics fy");
-  camera.cx = import::ParseDouble(fields[2], "--intrinsics cx");
-  camera.cy = import::ParseDouble(fields[3], "--intrinsics cy");
+  const import::NumberRange cx_range{0, static_cast<double>(camera.width), "px"};
+  const import::NumberRange cy_range{0, static_cast<double>(camera.height), "px"};
+  camera.fx = import::CheckInRange(import::ParseDouble(fields[0], "--intrinsics fx"), import::kFocalLengthRangePx, "--intrinsics fx");
+  camera.fy = import::CheckInRange(import::ParseDouble(fields[1], "--intrinsics fy"), import::kFocalLengthRangePx, "--intrinsics fy");
+  camera.cx = import::CheckInRange(import::ParseDouble(fields[2], "--intrinsics cx"), cx_range, "--intrinsics cx");
+  camera.cy = import::CheckInRange(import::ParseDouble(fields[3], "--intrinsics cy"), cy_range, "--intrinsics cy");
   options.camera = camera;
 }
 
@@ -68,8 +70,7 @@ void Print(const import::ImportSummary& summary, bool json) {
 }
 
 int64_t Nanoseconds(double seconds, const char* flag) {
-  if (!(seconds > 0) || !std::isfinite(seconds)) throw InputError(flag, "must be a positive number of seconds");
-  return std::llround(seconds * 1e9);
+  return std::llround(import::CheckInRange(seconds, import::kTimeSpanRangeS, flag) * 1e9);
 }
 
 }  // namespace
@@ -80,12 +81,14 @@ int RunImport(int argc, char** argv) {
   bool json = false;
   std::string source, out, intrinsics, models;
   double gap_limit_s = 0.5, max_difference_s = 0.02, rate_hz = 30.0;
+  double depth_factor = import::kTumDepthUnitsPerMetre;
   app.add_flag("--json", json, "print one JSON document");
 
   auto* tum = app.add_subcommand("tum", "TUM RGB-D sequence folder, or a groundtruth.txt-format trajectory");
   tum->add_option("source", source, "sequence folder (rgb.txt, depth.txt, groundtruth.txt) or trajectory file")->required();
   tum->add_option("--intrinsics", intrinsics, "fr1|fr2|fr3|ros or fx,fy,cx,cy (default: from the bag name)");
   tum->add_option("--max-difference", max_difference_s, "rgb/depth association window (s)")->capture_default_str();
+  tum->add_option("--depth-factor", depth_factor, "depth PNG values per metre")->capture_default_str();
   auto* plus = app.add_subcommand("plus", "PLUS sequence metafile (.mha) tracker log");
   plus->add_option("file", source, ".mha / .igs.mha file")->required();
   auto* motive = app.add_subcommand("motive", "OptiTrack Motive CSV export");
@@ -107,6 +110,7 @@ int RunImport(int argc, char** argv) {
     options.software_version = MOCAP_VERSION;
     options.gap_limit_ns = Nanoseconds(gap_limit_s, "--gap-limit");
     options.association.max_difference_ns = Nanoseconds(max_difference_s, "--max-difference");
+    options.depth_units_per_metre = import::CheckInRange(depth_factor, import::kDepthUnitsPerMetreRange, "--depth-factor");
     if (!intrinsics.empty()) ParseIntrinsics(intrinsics, options);
     summary = import::ImportTum(source, out, options);
   } else if (plus->parsed() || motive->parsed()) {
@@ -117,7 +121,7 @@ int RunImport(int argc, char** argv) {
   } else {
     import::BopImportOptions options;
     options.software_version = MOCAP_VERSION;
-    options.frame_rate_hz = rate_hz;
+    options.frame_rate_hz = import::CheckInRange(rate_hz, import::kBopFrameRateRangeHz, "--rate");
     options.write_objects = pipeline::WriteBopObjects;
     summary = import::ImportBop(source, models, out, options);
   }

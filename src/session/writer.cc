@@ -11,6 +11,8 @@
 #include <cstring>
 #include <ctime>
 #include <deque>
+#include <fstream>
+#include <iterator>
 #include <functional>
 #include <map>
 #include <mutex>
@@ -56,6 +58,19 @@ void RenameIntoPlace(const fs::path& temp, const fs::path& path) {
   }
 }
 
+/// Copies `source` to `temp` with our own writes: std::filesystem::copy_file reports a sendfile that
+/// ran out of space as EIO (or, after a cleanup, as "Success"), and the user needs the real reason.
+void CopyReportingErrno(const fs::path& source, const fs::path& temp, const fs::path& path) {
+  std::ifstream in(source, std::ios::binary);
+  const std::string bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  if (!in.good() && !in.eof()) throw InputError(path.string(), Str("cannot copy ", source.string(), ": read failed"));
+  try {
+    WriteFileRemovingOnFailure(temp, bytes, false);
+  } catch (const InputError& e) {
+    throw InputError(path.string(), Str("cannot copy ", source.string(), ": ", e.what()));
+  }
+}
+
 /// Places an already-encoded file: a hard link when the file system allows, else a copy.
 void LinkOrCopy(const fs::path& source, const fs::path& path) {
   const fs::path temp = fs::path(path).concat(".tmp");
@@ -63,11 +78,7 @@ void LinkOrCopy(const fs::path& source, const fs::path& path) {
   fs::create_hard_link(source, temp, error);
   if (error) {
     fs::remove(temp, error);
-    fs::copy_file(source, temp, fs::copy_options::overwrite_existing, error);
-    if (error) {
-      fs::remove(temp, error);
-      throw InputError(path.string(), Str("cannot copy ", source.string(), ": ", error.message()));
-    }
+    CopyReportingErrno(source, temp, path);
   }
   RenameIntoPlace(temp, path);
 }
@@ -98,6 +109,7 @@ struct SessionWriter::Impl {
   int pending_frames = 0;
   int64_t records_written = 0;
   std::exception_ptr error;  ///< first failure; the writer refuses further writes after it
+  bool error_raised = false;  ///< `error` has reached a caller, so the destructor need not log it again
   bool stopping = false;
   bool closed = false;
   std::mutex commit_mutex;  ///< serialises appends, so they follow submission order
@@ -109,7 +121,9 @@ struct SessionWriter::Impl {
   void Submit(std::shared_ptr<Job> job);
   void SyncAll();
   void ThrowIfFailed() {
-    if (error) std::rethrow_exception(error);
+    if (!error) return;
+    error_raised = true;
+    std::rethrow_exception(error);
   }
 };
 
@@ -268,7 +282,8 @@ SessionWriter::~SessionWriter() {
   try {
     Close();
   } catch (const std::exception& e) {
-    Log().error("session {} left incomplete: {}", impl_->dir.string(), e.what());
+    // An error the owner already caught (and reported) would otherwise be printed twice.
+    if (!impl_->error_raised) Log().error("session {} left incomplete: {}", impl_->dir.string(), e.what());
   }
 }
 

@@ -6,6 +6,8 @@
 #include <array>
 #include <cstdio>
 #include <nlohmann/json.hpp>
+#include <utility>
+#include <vector>
 
 #include "test_util.h"
 
@@ -84,6 +86,30 @@ TEST(ImportCli, BadInputExitsWithOneLine) {
   EXPECT_NE(run.out.find("(truncated file?)"), std::string::npos) << run.out;
   EXPECT_EQ(std::count(run.out.begin(), run.out.end(), '\n'), 1) << run.out;
   EXPECT_FALSE(std::filesystem::exists(scratch.path() / "S"));
+}
+
+TEST(ImportCli, NumberFlagsAreRangeCheckedNamingTheFlag) {
+  ScratchDir scratch;
+  const std::string out = " --out " + (scratch.path() / "S").string() + " 2>&1";
+  const std::string tum = "import tum " + RealData("tum_fr1_desk_9frames").string();
+  const std::string bop = "import bop " + RealData("bop_lmo_scene2/test/000002").string() + " --models " +
+                          RealData("bop_lmo_scene2/models").string();
+  for (const auto& [arguments, flag] : std::vector<std::pair<std::string, std::string>>{
+           {bop + " --rate 1e300", "--rate: "},
+           {tum + " --intrinsics 1e308,525,319.5,239.5", "--intrinsics fx: "},
+           {tum + " --depth-factor 0", "--depth-factor: "},
+           {tum + " --depth-factor 1e300", "--depth-factor: "},
+           {tum + " --gap-limit 1e300", "--gap-limit: "},
+           {tum + " --max-difference 1e300", "--max-difference: "}}) {
+    const CommandResult run = Mocaplabel(arguments + out);
+    EXPECT_EQ(run.exit_code, 1) << arguments;
+    EXPECT_NE(run.out.find(flag + "must be between"), std::string::npos) << run.out;
+    EXPECT_EQ(run.out.find("Options"), std::string::npos) << run.out;
+    EXPECT_EQ(std::count(run.out.begin(), run.out.end(), '\n'), 1) << run.out;
+  }
+  EXPECT_FALSE(std::filesystem::exists(scratch.path() / "S"));
+  const auto summary = Json(Mocaplabel(tum + " --depth-factor 1000 --json" + out));
+  EXPECT_GT(summary["frames"].get<int>(), 0);
 }
 
 }  // namespace

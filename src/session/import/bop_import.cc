@@ -107,8 +107,7 @@ void WriteGroup(SessionWriter& writer, const CameraGroup& group, const BopImport
 }  // namespace
 
 void BopImportOptions::check() const {
-  if (!(frame_rate_hz > 0) || !std::isfinite(frame_rate_hz))
-    throw InputError("BopImportOptions", "frame_rate_hz must be positive");
+  CheckInRange(frame_rate_hz, kBopFrameRateRangeHz, "BopImportOptions::frame_rate_hz");
   MOCAP_CHECK(write_objects, "BopImportOptions::write_objects is not set");
 }
 
@@ -151,10 +150,10 @@ ImportSummary ImportBop(const std::filesystem::path& scene_dir, const std::files
   summary.notes.push_back(Str(scene.frames_without_rgb, " annotated frames have no colour image and were skipped"));
   summary.notes.push_back(Str("stamps are synthetic: im_id at ", options.frame_rate_hz, " Hz"));
   if (groups.size() > 1) summary.notes.push_back(Str("cam_K varies: ", groups.size(), " cameras, one per distinct K"));
-  auto writer = SessionWriter::Create(out, manifest);
-  options.write_objects(out / "objects.yaml", Objects(objects), manifest.source);
-  for (const auto& g : groups) WriteGroup(*writer, g, options, summary);
-  writer->Close();
+  PublishSession(out, scene_dir, manifest, [&](SessionWriter& writer, const std::filesystem::path& dir) {
+    options.write_objects(dir / "objects.yaml", Objects(objects), manifest.source);
+    for (const auto& g : groups) WriteGroup(writer, g, options, summary);
+  });
   return summary;
 }
 

@@ -1,5 +1,6 @@
 #include "session/import/bop_scene.h"
 
+#include <cmath>
 #include <algorithm>
 #include <cstdio>
 #include <fstream>
@@ -7,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/check.h"
+#include "core/text.h"
 #include "session/import/text_parse.h"
 
 namespace mocap::import {
@@ -23,7 +25,7 @@ json ReadJson(const std::filesystem::path& file) {
   try {
     return json::parse(text);
   } catch (const json::parse_error& e) {
-    throw InputError(Str(file.string(), ": byte ", e.byte), Str("invalid JSON: ", e.what()));
+    throw InputError(Str(file.string(), ": byte ", e.byte), Str("invalid JSON: ", QuoteForMessage(e.what(), 200)));
   }
 }
 
@@ -37,7 +39,7 @@ std::vector<double> Numbers(const json& value, size_t count, const std::string& 
     throw InputError(where, Str("expected an array of ", count, " numbers"));
   std::vector<double> out;
   for (const auto& v : value) {
-    if (!v.is_number()) throw InputError(where, Str("'", v.dump(), "' is not a number"));
+    if (!v.is_number()) throw InputError(where, Str(QuoteForMessage(v.dump()), " is not a number"));
     out.push_back(v.get<double>());
   }
   return out;
@@ -81,12 +83,22 @@ PinholeCamera CameraFromK(const json& entry, const std::string& where) {
   const auto K = Numbers(Member(entry, "cam_K", where), 9, where + " cam_K");
   if (K[1] != 0 || K[3] != 0 || K[6] != 0 || K[7] != 0 || K[8] != 1)
     throw InputError(where + " cam_K", "not a pinhole matrix [fx 0 cx; 0 fy cy; 0 0 1] (skew is not supported)");
+  if (!(K[0] > 0) || !(K[4] > 0) || !std::isfinite(K[0]) || !std::isfinite(K[4]) || !std::isfinite(K[2]) ||
+      !std::isfinite(K[5]))
+    throw InputError(where + " cam_K", Str("focal lengths must be positive and all entries finite (fx ", K[0], ", fy ", K[4], ")"));
   PinholeCamera camera;
   camera.fx = K[0];
   camera.cx = K[2];
   camera.fy = K[4];
   camera.cy = K[5];
   return camera;
+}
+
+// Depth units in mm per stored unit; checked here so the error names the file and image.
+double DepthScale(const json& value, const std::string& where) {
+  const double scale = Numbers(json::array({value}), 1, where)[0];
+  if (!(scale > 0) || !std::isfinite(scale)) throw InputError(where, Str("must be a positive number of mm per depth unit, got ", scale));
+  return scale;
 }
 
 std::filesystem::path FindImage(const std::filesystem::path& folder, int im_id) {
@@ -125,7 +137,7 @@ std::vector<BopModel> ReadModels(const std::filesystem::path& models_dir) {
   if (!info.is_object()) throw InputError(info_file.string(), "expected an object keyed by obj_id");
   std::vector<BopModel> models;
   for (const auto& [key, entry] : info.items()) {
-    const std::string where = Str(info_file.string(), ": \"", key, "\"");
+    const std::string where = Str(info_file.string(), ": key ", QuoteForMessage(key));
     BopModel model;
     model.obj_id = static_cast<int>(ParseInt(key, where));
     const double diameter_mm = Numbers(json::array({Member(entry, "diameter", where)}), 1, where + " diameter")[0];
@@ -172,7 +184,7 @@ BopScene ReadBopScene(const std::filesystem::path& scene_dir, const std::filesys
   const json gt = ReadJson(gt_file);
   if (!gt.is_object()) throw InputError(gt_file.string(), "expected an object keyed by im_id");
   std::map<int, std::string> keys;  // numeric order, not JSON's string order
-  for (const auto& [key, value] : gt.items()) keys[ImageId(key, Str(gt_file.string(), ": key \"", key, "\""))] = key;
+  for (const auto& [key, value] : gt.items()) keys[ImageId(key, Str(gt_file.string(), ": key ", QuoteForMessage(key)))] = key;
   scene.annotated_frames = static_cast<int>(keys.size());
   for (const auto& [im_id, key] : keys) {
     BopFrame frame;
@@ -186,7 +198,7 @@ BopScene ReadBopScene(const std::filesystem::path& scene_dir, const std::filesys
     const std::string cam_where = Str(camera_file.string(), ": \"", key, "\"");
     const json& cam = Member(cameras, key, camera_file.string());
     frame.camera = CameraFromK(cam, cam_where);
-    if (cam.contains("depth_scale")) frame.depth_scale_mm = Numbers(json::array({cam["depth_scale"]}), 1, cam_where)[0];
+    if (cam.contains("depth_scale")) frame.depth_scale_mm = DepthScale(cam["depth_scale"], cam_where + " depth_scale");
     else if (!frame.depth.empty()) throw InputError(cam_where, "missing \"depth_scale\" for a frame with depth");
     frame.objects = ReadObjects(gt.at(key), Str(gt_file.string(), ": \"", key, "\""));
     for (const auto& object : frame.objects)

@@ -4,12 +4,14 @@
 // so that a session says what its source lacked.
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <span>
 #include <string>
 #include <vector>
 
 #include "core/pose_stream.h"
+#include "session/manifest.h"
 #include "session/records.h"
 
 namespace mocap {
@@ -48,8 +50,35 @@ struct ImportSummary {
 void WriteBodySamples(SessionWriter& writer, const std::string& tracker, std::span<const TrackerRecord> records,
                       int64_t gap_limit_ns, ImportSummary& summary);
 
+/// The range a number option accepts, shared by an options struct's check() and the CLI flag that sets
+/// it, so both refuse the same values (1e300 Hz would otherwise overflow a stamp in nanoseconds).
+struct NumberRange {
+  double min = 0, max = 0;
+  const char* unit = "";
+};
+inline constexpr NumberRange kTimeSpanRangeS{1e-6, 1e6, "s"};  ///< --gap-limit, --max-difference
+inline constexpr NumberRange kBopFrameRateRangeHz{0.01, 1e5, "Hz"};
+inline constexpr NumberRange kDepthUnitsPerMetreRange{1, 1e6, "units per metre"};
+inline constexpr NumberRange kFocalLengthRangePx{1, 1e5, "px"};
+
+/// `value` when it is finite and within `range`; else InputError(name, "must be between ...").
+double CheckInRange(double value, const NumberRange& range, const std::string& name);
+
 /// Rejects a session folder that exists and is not empty (InputError naming it), as the writer would,
 /// before any source is read, so a bad --out fails fast.
 void CheckOutputFolder(const std::filesystem::path& out);
+
+/// Where an import writes before it is published: `<out>.partial`, a sibling of `out`.
+std::filesystem::path PartialFolder(const std::filesystem::path& out);
+
+/// Fills `<out>.partial` with a SessionWriter made from `manifest` and `write` (which gets the writer and
+/// the partial folder, for files beside the streams), closes it and renames it to `out`, so `out` only
+/// ever appears whole. On any error the partial folder is removed before the exception leaves, so a bad
+/// source or a full disk leaves nothing behind and a rerun is not refused. A `<out>.partial` left by an
+/// import that was killed (it holds a manifest.json, or nothing) is replaced; any other is refused.
+/// Errors that would not name a file (a manifest check, text JSON cannot store) are reported against
+/// `source`.
+void PublishSession(const std::filesystem::path& out, const std::filesystem::path& source, SessionManifest manifest,
+                    const std::function<void(SessionWriter&, const std::filesystem::path& dir)>& write);
 
 }  // namespace mocap::import

@@ -4,6 +4,7 @@
 #include <limits>
 
 #include "core/check.h"
+#include "core/text.h"
 #include "session/import/text_parse.h"
 
 namespace mocap::import {
@@ -28,7 +29,7 @@ double LengthUnitM(const std::map<std::string, std::string>& info, const std::st
   if (it->second == "Meters") return 1.0;
   if (it->second == "Centimeters") return 1e-2;
   if (it->second == "Millimeters") return 1e-3;
-  throw InputError(where, Str("unknown Length Units '", it->second, "' (Meters, Centimeters or Millimeters)"));
+  throw InputError(where, Str("unknown Length Units ", QuoteForMessage(it->second), " (Meters, Centimeters or Millimeters)"));
 }
 
 std::map<std::string, std::string> ReadInfoLine(std::string_view line, const std::string& where) {
@@ -38,7 +39,7 @@ std::map<std::string, std::string> ReadInfoLine(std::string_view line, const std
   std::map<std::string, std::string> info;
   for (size_t i = 0; i + 1 < fields.size(); i += 2) info[std::string(Trim(fields[i]))] = std::string(Trim(fields[i + 1]));
   if (auto it = info.find("Rotation Type"); it != info.end() && it->second != "Quaternion")
-    throw InputError(where, Str("Rotation Type is '", it->second, "'; export the take with quaternion rotations"));
+    throw InputError(where, Str("Rotation Type is ", QuoteForMessage(it->second), "; export the take with quaternion rotations"));
   return info;
 }
 
@@ -77,7 +78,7 @@ Header ReadHeader(const std::vector<std::string_view>& lines, const std::filesys
       header.groups.push_back({t, n, c < id.size() ? std::string(Trim(id[c])) : "", {}, static_cast<int>(axis_row + 1)});
     const std::string key = Str(Trim(quantity[c]), Trim(axis[c]).empty() ? "" : " ", Trim(axis[c]));
     if (!header.groups.back().columns.emplace(key, c).second)
-      throw InputError(where, Str("column '", key, "' of '", n, "' appears twice"));
+      throw InputError(where, Str("column ", QuoteForMessage(key), " of ", QuoteForMessage(n), " appears twice"));
   }
   return header;
 }
@@ -85,7 +86,7 @@ Header ReadHeader(const std::vector<std::string_view>& lines, const std::filesys
 size_t Column(const ColumnGroup& group, const std::string& key, const std::filesystem::path& file) {
   auto it = group.columns.find(key);
   if (it == group.columns.end())
-    throw InputError(Where(file, group.header_line), Str(group.type, " '", group.name, "' has no '", key, "' column"));
+    throw InputError(Where(file, group.header_line), Str(group.type, " ", QuoteForMessage(group.name), " has no '", key, "' column"));
   return it->second;
 }
 
@@ -114,10 +115,23 @@ RigidBodyColumns RigidColumns(const ColumnGroup& g, const std::filesystem::path&
   return cols;
 }
 
+// A file cut short (a copy interrupted, `head`) still parses row by row; the header's own count of
+// exported frames is what tells it from a short take.
+void CheckExportedFrames(const MotiveTake& take, const std::filesystem::path& file) {
+  auto it = take.info.find("Total Exported Frames");
+  if (it == take.info.end()) return;  // older exports do not say
+  const int64_t declared = ParseInt(it->second, Where(file, 1) + " Total Exported Frames");
+  const auto present = static_cast<int64_t>(take.frame_ids.size());
+  if (present < declared)
+    throw InputError(file.string(), Str("the header declares ", declared, " exported frames ('Total Exported Frames') but ",
+                                        present, " frame rows follow (truncated file?)"));
+}
+
 }  // namespace
 
 MotiveTake ReadMotiveCsv(const std::filesystem::path& file, const MotiveOptions& options) {
-  const std::string text = ReadTextFile(file);
+  // Motive writes names in the Windows code page: a line that is not UTF-8 is read as Windows-1252.
+  const std::string text = LinesToUtf8(ReadTextFile(file));
   auto lines = SplitLines(text);
   while (!lines.empty() && Trim(lines.back()).empty()) lines.pop_back();
   if (lines.empty()) throw InputError(file.string(), "empty file");
@@ -153,7 +167,7 @@ MotiveTake ReadMotiveCsv(const std::filesystem::path& file, const MotiveOptions&
     for (size_t b = 0; b < take.rigid_bodies.size(); ++b) {
       auto& body = take.rigid_bodies[b];
       PoseSample sample{.stamp_ns = stamp_ns, .status = PoseStatus::kMissing, .pose = {}};
-      if (auto v = ReadCells(row, rigid_columns[b].pose, Str("rigid body '", body.name, "'"), where)) {
+      if (auto v = ReadCells(row, rigid_columns[b].pose, Str("rigid body ", QuoteForMessage(body.name)), where)) {
         const auto& x = *v;
         sample.status = PoseStatus::kValid;
         sample.pose = Rigid3d(QuaternionNearlyUnit(x[3], x[0], x[1], x[2], where),
@@ -166,12 +180,13 @@ MotiveTake ReadMotiveCsv(const std::filesystem::path& file, const MotiveOptions&
       body.mean_marker_error_m.push_back(error_m);
     }
     for (size_t m = 0; m < take.markers.size(); ++m) {
-      auto v = ReadCells(row, marker_columns[m], Str("marker '", take.markers[m].name, "'"), where);
+      auto v = ReadCells(row, marker_columns[m], Str("marker ", QuoteForMessage(take.markers[m].name)), where);
       std::optional<Eigen::Vector3d> position;
       if (v) position = Eigen::Vector3d((*v)[0], (*v)[1], (*v)[2]) * take.length_unit_m;
       take.markers[m].positions_m.push_back(position);
     }
   }
+  CheckExportedFrames(take, file);
   return take;
 }
 

@@ -4,6 +4,7 @@
 #include <cctype>
 
 #include "core/check.h"
+#include "core/text.h"
 #include "session/import/text_parse.h"
 
 namespace mocap::import {
@@ -37,7 +38,7 @@ std::optional<std::pair<int, std::string>> SplitFrameKey(std::string_view key, c
   if (key.substr(0, kFramePrefix.size()) != kFramePrefix) return std::nullopt;
   const size_t underscore = key.find('_', kFramePrefix.size());
   if (underscore == std::string_view::npos || underscore + 1 >= key.size())
-    throw InputError(where, Str("malformed per-frame key '", key, "' (expected Seq_Frame<idx>_<Name>)"));
+    throw InputError(where, Str("malformed per-frame key ", QuoteForMessage(key), " (expected Seq_Frame<idx>_<Name>)"));
   const int64_t index = ParseInt(key.substr(kFramePrefix.size(), underscore - kFramePrefix.size()), where);
   if (index < 0 || index > 100'000'000) throw InputError(where, Str("frame index ", index, " out of range"));
   return std::pair{static_cast<int>(index), std::string(key.substr(underscore + 1))};
@@ -52,19 +53,21 @@ RawSequence ReadRaw(const std::filesystem::path& file, const std::string& bytes)
       throw InputError(file.string(), "header ends without 'ElementDataFile = LOCAL' (truncated or not a PLUS sequence)");
     size_t end = bytes.find('\n', start);
     if (end == std::string::npos) end = bytes.size();
-    const std::string_view line = Trim(std::string_view(bytes).substr(start, end - start));
+    // Field names are the user's text: a header line that is not UTF-8 is read as Windows-1252.
+    const std::string utf8_line = TextToUtf8(Trim(std::string_view(bytes).substr(start, end - start)));
+    const std::string_view line = utf8_line;
     start = end + 1;
     const std::string where = Where(file, ++line_number);
     if (line.empty()) continue;
     const size_t eq = line.find('=');
-    if (eq == std::string_view::npos) throw InputError(where, Str("expected 'Key = value', got '", line.substr(0, 60), "'"));
+    if (eq == std::string_view::npos) throw InputError(where, Str("expected 'Key = value', got ", QuoteForMessage(line, 60)));
     const std::string key(Trim(line.substr(0, eq)));
     const std::string value(Trim(line.substr(eq + 1)));
     if (line_number == 1 && key != "ObjectType")
       throw InputError(where, "not a MetaIO sequence file (first line must be 'ObjectType = Image')");
     if (auto frame_key = SplitFrameKey(key, where)) {
       auto& fields = raw.frames[frame_key->first];
-      if (fields.contains(frame_key->second)) throw InputError(where, Str("field '", key, "' given twice"));
+      if (fields.contains(frame_key->second)) throw InputError(where, Str("field ", QuoteForMessage(key), " given twice"));
       if (std::find(raw.field_order.begin(), raw.field_order.end(), frame_key->second) == raw.field_order.end())
         raw.field_order.push_back(frame_key->second);
       fields[frame_key->second] = Field{value, line_number};
@@ -150,7 +153,7 @@ void AppendSample(PlusTransformTrack& track, const FrameFields& fields, int64_t 
   if (status != fields.end()) {
     status_text = status->second.value;
     const auto parsed = PoseStatusFromPlus(status_text);
-    if (!parsed) throw InputError(Where(file, status->second.line), Str("unknown transform status '", status_text, "'"));
+    if (!parsed) throw InputError(Where(file, status->second.line), Str("unknown transform status ", QuoteForMessage(status_text)));
     sample.status = *parsed;
   }
   if (transform == fields.end()) {

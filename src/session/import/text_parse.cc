@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "core/check.h"
+#include "core/text.h"
 
 namespace mocap::import {
 
@@ -76,7 +77,7 @@ double ParseDouble(std::string_view field, const std::string& where) {
   if (!field.empty() && *begin == '+') ++begin;
   const auto [ptr, ec] = std::from_chars(begin, end, value);
   if (field.empty() || ec != std::errc() || ptr != end || !std::isfinite(value))
-    throw InputError(where, Str("'", field, "' is not a number"));
+    throw InputError(where, Str(QuoteForMessage(field), " is not a number"));
   return value;
 }
 
@@ -85,7 +86,7 @@ int64_t ParseInt(std::string_view field, const std::string& where) {
   int64_t value = 0;
   const auto [ptr, ec] = std::from_chars(field.data(), field.data() + field.size(), value);
   if (field.empty() || ec != std::errc() || ptr != field.data() + field.size())
-    throw InputError(where, Str("'", field, "' is not an integer"));
+    throw InputError(where, Str(QuoteForMessage(field), " is not an integer"));
   return value;
 }
 
@@ -93,7 +94,7 @@ int64_t NanosecondsFromSeconds(std::string_view seconds, const std::string& wher
   const std::string_view text = Trim(seconds);
   if (text.find_first_of("eE") != std::string_view::npos) {
     const double s = ParseDouble(text, where);
-    if (std::abs(s) > 9.2e9) throw InputError(where, Str("time '", text, "' s is out of range"));
+    if (std::abs(s) > 9.2e9) throw InputError(where, Str("time ", QuoteForMessage(text), " s is out of range"));
     return static_cast<int64_t>(std::llround(s * 1e9));
   }
   size_t i = 0;
@@ -106,7 +107,7 @@ int64_t NanosecondsFromSeconds(std::string_view seconds, const std::string& wher
   bool round_up = false;
   for (; i < text.size() && text[i] >= '0' && text[i] <= '9'; ++i, ++whole_digits) {
     if (whole > (std::numeric_limits<int64_t>::max() / 1'000'000'000 - 9) / 10)
-      throw InputError(where, Str("time '", text, "' s is out of range"));
+      throw InputError(where, Str("time ", QuoteForMessage(text), " s is out of range"));
     whole = whole * 10 + (text[i] - '0');
   }
   if (i < text.size() && text[i] == '.') {
@@ -116,7 +117,7 @@ int64_t NanosecondsFromSeconds(std::string_view seconds, const std::string& wher
     }
   }
   if (i != text.size() || whole_digits + fraction_digits == 0)
-    throw InputError(where, Str("'", text, "' is not a time in seconds"));
+    throw InputError(where, Str(QuoteForMessage(text), " is not a time in seconds"));
   for (int d = std::min(fraction_digits, 9); d < 9; ++d) fraction_ns *= 10;
   const int64_t ns = whole * 1'000'000'000 + fraction_ns + (round_up ? 1 : 0);
   return negative ? -ns : ns;

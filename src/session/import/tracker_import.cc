@@ -4,6 +4,7 @@
 #include <set>
 
 #include "core/check.h"
+#include "core/text.h"
 #include "session/import/motive_csv.h"
 #include "session/import/plus_mha.h"
 #include "session/writer.h"
@@ -88,13 +89,13 @@ ImportSummary ImportPlus(const std::filesystem::path& mha_file, const std::files
   ImportSummary summary;
   summary.session = out;
   for (const auto& field : seq.ignored_fields)
-    summary.notes.push_back("per-frame field '" + field + "' is not a <From>To<To>Transform channel: not imported");
-  auto writer = SessionWriter::Create(out, manifest);
-  for (size_t k = 0; k < bodies.size(); ++k) {
-    WriteBodySamples(*writer, "plus", PlusRecords(seq, seq.transforms[k], bodies[k]), options.gap_limit_ns, summary);
-    LogPlusStatuses(*writer, seq, seq.transforms[k]);
-  }
-  writer->Close();
+    summary.notes.push_back("per-frame field " + QuoteForMessage(field) + " is not a <From>To<To>Transform channel: not imported");
+  PublishSession(out, mha_file, manifest, [&](SessionWriter& writer, const std::filesystem::path&) {
+    for (size_t k = 0; k < bodies.size(); ++k) {
+      WriteBodySamples(writer, "plus", PlusRecords(seq, seq.transforms[k], bodies[k]), options.gap_limit_ns, summary);
+      LogPlusStatuses(writer, seq, seq.transforms[k]);
+    }
+  });
   return summary;
 }
 
@@ -120,10 +121,10 @@ ImportSummary ImportMotive(const std::filesystem::path& csv_file, const std::fil
   summary.session = out;
   summary.notes.push_back("marker columns are not imported (rigid bodies only)");
   summary.notes.push_back("stamps count from the take start ('Time (Seconds)'), not from the wall clock");
-  auto writer = SessionWriter::Create(out, manifest);
-  for (const auto& body : take.rigid_bodies)
-    WriteBodySamples(*writer, "motive", MotiveRecords(take, body), options.gap_limit_ns, summary);
-  writer->Close();
+  PublishSession(out, csv_file, manifest, [&](SessionWriter& writer, const std::filesystem::path&) {
+    for (const auto& body : take.rigid_bodies)
+      WriteBodySamples(writer, "motive", MotiveRecords(take, body), options.gap_limit_ns, summary);
+  });
   return summary;
 }
 

@@ -4,6 +4,7 @@
 #include <tuple>
 
 #include "core/check.h"
+#include "core/text.h"
 #include "session/import/text_parse.h"
 
 namespace mocap::import {
@@ -41,7 +42,8 @@ TumImageList ReadTumImageList(const std::filesystem::path& list_file, const std:
   for (size_t i = 0; i < lines.size(); ++i) {
     const int line_number = static_cast<int>(i + 1);
     if (IsComment(lines[i])) {
-      if (list.bag_name.empty()) list.bag_name = BagNameFromComment(lines[i]);
+      // A comment is the user's text: one that is not UTF-8 is read as Windows-1252.
+      if (list.bag_name.empty()) list.bag_name = TextToUtf8(BagNameFromComment(lines[i]));
       continue;
     }
     const auto fields = SplitWhitespace(lines[i]);
@@ -55,6 +57,9 @@ TumImageList ReadTumImageList(const std::filesystem::path& list_file, const std:
     TumImageEntry entry;
     entry.stamp_ns = NanosecondsFromSeconds(fields[0], where);
     entry.stamp_text = std::string(fields[0]);
+    // The name ends up in messages about the image; one with control bytes is no TUM file name.
+    if (std::any_of(fields[1].begin(), fields[1].end(), [](char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7F; }))
+      throw InputError(where, Str("file name ", QuoteForMessage(fields[1]), " contains control characters"));
     entry.relative_path = std::string(fields[1]);
     entry.line = line_number;
     entry.exists = std::filesystem::is_regular_file(sequence_dir / entry.relative_path);
@@ -165,7 +170,7 @@ TumCameraPreset TumPresetFromName(const std::string& name) {
   if (name == "fr2") return TumCameraPreset::kFreiburg2;
   if (name == "fr3") return TumCameraPreset::kFreiburg3;
   if (name == "ros") return TumCameraPreset::kRosDefault;
-  throw InputError("--intrinsics", Str("unknown camera preset '", name, "' (fr1, fr2, fr3, ros or fx,fy,cx,cy)"));
+  throw InputError("--intrinsics", Str("unknown camera preset ", QuoteForMessage(name), " (fr1, fr2, fr3, ros or fx,fy,cx,cy)"));
 }
 
 TumSequence ReadTumSequence(const std::filesystem::path& dir, const TumAssociationOptions& options) {

@@ -115,9 +115,9 @@ ImportSummary ImportTrajectory(const std::filesystem::path& file, const std::fil
   manifest.extra["tum"] = {{"groundtruth", file.filename().string()}, {"poses", gt.samples.size()}};
   ImportSummary summary;
   summary.session = out;
-  auto writer = SessionWriter::Create(out, manifest);
-  WriteBodySamples(*writer, kTracker, GroundTruthRecords(gt), options.gap_limit_ns, summary);
-  writer->Close();
+  PublishSession(out, file, manifest, [&](SessionWriter& writer, const std::filesystem::path&) {
+    WriteBodySamples(writer, kTracker, GroundTruthRecords(gt), options.gap_limit_ns, summary);
+  });
   summary.notes.push_back("trajectory only: no camera stream");
   return summary;
 }
@@ -128,6 +128,7 @@ void TumImportOptions::check() const {
   association.check();
   if (camera) camera->check();
   if (gap_limit_ns <= 0) throw InputError("TumImportOptions", "gap_limit_ns must be positive");
+  CheckInRange(depth_units_per_metre, kDepthUnitsPerMetreRange, "TumImportOptions::depth_units_per_metre");
 }
 
 ImportSummary ImportTum(const std::filesystem::path& source, const std::filesystem::path& out,
@@ -147,7 +148,7 @@ ImportSummary ImportTum(const std::filesystem::path& source, const std::filesyst
   info.color_camera = camera;
   info.depth_camera = camera;  // TUM depth is registered to the colour camera by the driver
   info.depth_registered_to_color = true;
-  info.depth_unit_m = 1.0 / kTumDepthUnitsPerMetre;
+  info.depth_unit_m = 1.0 / options.depth_units_per_metre;
   info.camera_body = kBody;  // the ground truth is the colour optical centre itself
   manifest.cameras.push_back(info);
   nlohmann::json pairs = nlohmann::json::array();
@@ -155,22 +156,25 @@ ImportSummary ImportTum(const std::filesystem::path& source, const std::filesyst
     pairs.push_back({seq.rgb.entries[p.first].stamp_text, seq.depth.entries[p.second].stamp_text});
   manifest.extra["tum"] = {{"sequence", seq.rgb.bag_name},
                            {"intrinsics", camera_note},
-                           {"depth_units_per_metre", kTumDepthUnitsPerMetre},
+                           {"depth_units_per_metre", options.depth_units_per_metre},
                            {"association_max_difference_s", static_cast<double>(options.association.max_difference_ns) * 1e-9},
                            {"rgb_depth_pairs", pairs}};
 
   ImportSummary summary;
   summary.session = out;
   summary.notes.push_back(camera_note);
+  if (options.depth_units_per_metre != kTumDepthUnitsPerMetre)
+    summary.notes.push_back(Str("depth: ", options.depth_units_per_metre, " units per metre (given by the user; TUM uses ",
+                                kTumDepthUnitsPerMetre, ")"));
   for (int line : seq.rgb.header_lines_without_hash)
     summary.notes.push_back(Str(seq.rgb.file.string(), ":", line, ": header line without '#' skipped"));
   for (int line : seq.depth.header_lines_without_hash)
     summary.notes.push_back(Str(seq.depth.file.string(), ":", line, ": header line without '#' skipped"));
   const std::vector<PlannedFrame> frames = PlanFrames(seq);
-  auto writer = SessionWriter::Create(out, manifest);
-  WriteFrames(*writer, frames, summary);
-  WriteBodySamples(*writer, kTracker, GroundTruthRecords(seq.groundtruth), options.gap_limit_ns, summary);
-  writer->Close();
+  PublishSession(out, source, manifest, [&](SessionWriter& writer, const std::filesystem::path&) {
+    WriteFrames(writer, frames, summary);
+    WriteBodySamples(writer, kTracker, GroundTruthRecords(seq.groundtruth), options.gap_limit_ns, summary);
+  });
   return summary;
 }
 

@@ -27,6 +27,8 @@ struct TumImportOptions {
   std::optional<TumCameraPreset> preset;  ///< used when `camera` is empty
   TumAssociationOptions association;
   int64_t gap_limit_ns = 500'000'000;     ///< ground-truth spans longer than this are logged as gaps
+  /// Depth PNG values per metre (TUM: 5000); within kDepthUnitsPerMetreRange.
+  double depth_units_per_metre = kTumDepthUnitsPerMetre;
   std::string software_version;
   void check() const;
 };
