@@ -2,6 +2,7 @@
 
 #include <arpa/inet.h>
 
+#include "capture/daemon/json_depth.h"
 #include "core/check.h"
 // Last: it pulls in <resolv.h>, whose `_res` macro breaks Eigen headers included after it.
 #include <httplib.h>
@@ -15,9 +16,13 @@ void ControlServerOptions::check() const {
   if (port < 0 || port > 65535) throw InputError("control port", Str(port, " is not in 0..65535"));
   if (!IsLoopbackAddress(bind) && !allow_remote)
     throw InputError("control bind '" + bind + "'",
-                     "is not a loopback address: pass --allow-remote and a --token to serve other hosts");
+                     "is not a loopback address: pass --allow-remote and a token (--token-file) to serve other hosts");
   if (allow_remote && token.empty())
-    throw InputError("--allow-remote", "needs a --token: remote clients must authenticate");
+    throw InputError("--allow-remote", "needs a token (--token-file F, $MOCAPLABEL_TOKEN or --token T): remote clients must authenticate");
+  if (max_body_bytes == 0 || max_json_depth < 1 || worker_threads < 1 || idle_timeout_s < 1 || read_timeout_s < 1)
+    throw InputError("control limits", Str("must be positive (max_body_bytes ", max_body_bytes, ", max_json_depth ",
+                                           max_json_depth, ", worker_threads ", worker_threads, ", idle_timeout_s ",
+                                           idle_timeout_s, ", read_timeout_s ", read_timeout_s, ")"));
 }
 
 bool IsLoopbackAddress(const std::string& address) {
@@ -32,7 +37,7 @@ AccessDecision CheckAccess(const ControlServerOptions& options, const std::strin
                            const std::string& authorization_header) {
   if (!options.allow_remote && !IsLoopbackAddress(remote_addr))
     return {403, "control API: clients from " + remote_addr +
-                     " are refused (loopback only; start the daemon with --allow-remote and a --token)"};
+                     " are refused (loopback only; start the daemon with --allow-remote and a token)"};
   if (!options.token.empty() && authorization_header != "Bearer " + options.token)
     return {401, "control API: missing or wrong token (send 'Authorization: Bearer <token>')"};
   return {};
@@ -48,7 +53,9 @@ void Reply(httplib::Response& res, int status, const nlohmann::json& body) {
 void ReplyError(httplib::Response& res, int status, const std::string& error) { Reply(res, status, {{"error", error}}); }
 
 // The session name of a /start body: {"name": "..."} and nothing else that we would ignore silently.
-std::string SessionNameFromBody(const std::string& body) {
+std::string SessionNameFromBody(const std::string& body, int max_json_depth) {
+  if (JsonNestingDepth(body, max_json_depth) > max_json_depth)
+    throw InputError("POST /start body", Str("nests deeper than ", max_json_depth, " levels; send {\"name\": \"SESSION\"}"));
   nlohmann::json request;
   try {
     request = nlohmann::json::parse(body);
@@ -104,32 +111,83 @@ void ControlServer::Stop() {
   if (thread_.joinable()) thread_.join();
 }
 
+namespace {
+
+// The endpoints and their methods: anything else on these paths is 405, any other path 404.
+const char* AllowedMethods(const std::string& path) {
+  if (path == "/status") return "GET, HEAD";
+  if (path == "/start" || path == "/stop") return "POST";
+  return nullptr;
+}
+
+bool MethodAllowed(const std::string& path, const std::string& method) {
+  if (path == "/status") return method == "GET" || method == "HEAD";
+  if (path == "/start" || path == "/stop") return method == "POST";
+  return false;
+}
+
+// Bodies the server would read without the size limit: cpp-httplib checks max length only against
+// Content-Length, not against chunked transfer or the decompressed size of a gzip/brotli body.
+AccessDecision CheckBodyFraming(const httplib::Request& req) {
+  if (req.get_header_value("Transfer-Encoding").find("chunked") != std::string::npos)
+    return {411, Str(req.method, " ", req.path, ": chunked bodies are not accepted; send a Content-Length")};
+  const std::string encoding = req.get_header_value("Content-Encoding");
+  if (!encoding.empty() && encoding != "identity")
+    return {415, Str(req.method, " ", req.path, ": Content-Encoding '", encoding, "' is not accepted; send plain JSON")};
+  return {};
+}
+
+// The JSON error for a request that no handler answered (or whose body could not be read).
+void ReplyUnhandled(const httplib::Request& req, httplib::Response& res, size_t max_body_bytes) {
+  if (res.status == 413) {
+    ReplyError(res, 413, Str(req.method, " ", req.path, ": body larger than ", max_body_bytes,
+                             " bytes; send {\"name\": \"SESSION\"}"));
+    res.set_header("Connection", "close");
+    return;
+  }
+  if (const char* allowed = AllowedMethods(req.path); allowed && !MethodAllowed(req.path, req.method)) {
+    ReplyError(res, 405, Str(req.method, " ", req.path, ": method not allowed; use ", allowed));
+    res.set_header("Allow", allowed);
+    return;
+  }
+  if (!AllowedMethods(req.path) && !req.path.empty()) {
+    ReplyError(res, 404, Str(req.method, " ", req.path, ": no such endpoint (GET /status, POST /start, POST /stop)"));
+    return;
+  }
+  ReplyError(res, res.status, Str(req.method, " ", req.path, ": malformed request"));
+}
+
+}  // namespace
+
 void ControlServer::AddRoutes() {
+  server_->new_task_queue = [threads = options_.worker_threads] { return new httplib::ThreadPool(static_cast<size_t>(threads)); };
+  server_->set_keep_alive_timeout(options_.idle_timeout_s);
+  server_->set_read_timeout(options_.read_timeout_s);
+  server_->set_write_timeout(options_.read_timeout_s);  // a client that does not read its answer
+  server_->set_payload_max_length(options_.max_body_bytes);
   server_->set_pre_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
-    const AccessDecision access = CheckAccess(options_, req.remote_addr, req.get_header_value("Authorization"));
-    if (access.status == 0) return httplib::Server::HandlerResponse::Unhandled;
-    ReplyError(res, access.status, access.error);
+    AccessDecision decision = CheckAccess(options_, req.remote_addr, req.get_header_value("Authorization"));
+    if (decision.status == 0) decision = CheckBodyFraming(req);
+    if (decision.status == 0) return httplib::Server::HandlerResponse::Unhandled;
+    ReplyError(res, decision.status, decision.error);
+    // The body was not read: the connection cannot carry another request.
+    res.set_header("Connection", "close");
     return httplib::Server::HandlerResponse::Handled;
   });
   server_->Get("/status", [this](const httplib::Request&, httplib::Response& res) {
     Guarded(res, [&] { return daemon_.Status(); });
   });
   server_->Post("/start", [this](const httplib::Request& req, httplib::Response& res) {
-    Guarded(res, [&] { return daemon_.StartSession(SessionNameFromBody(req.body)); });
+    Guarded(res, [&] { return daemon_.StartSession(SessionNameFromBody(req.body, options_.max_json_depth)); });
   });
   server_->Post("/stop", [this](const httplib::Request&, httplib::Response& res) {
     Guarded(res, [&] { return daemon_.StopSession(); });
   });
-  for (const char* path : {"/start", "/stop"})
-    server_->Get(path, [path](const httplib::Request&, httplib::Response& res) {
-      ReplyError(res, 405, Str("GET ", path, ": use POST"));
-    });
-  server_->Post("/status", [](const httplib::Request&, httplib::Response& res) {
-    ReplyError(res, 405, "POST /status: use GET");
-  });
-  server_->set_error_handler([](const httplib::Request& req, httplib::Response& res) {
+  // Wrong methods and unknown paths reach no handler: cpp-httplib answers 404 (or 400 for a method it
+  // has no handler table for, like TRACE) and this handler turns that into 405 or 404 with a JSON error.
+  server_->set_error_handler([this](const httplib::Request& req, httplib::Response& res) {
     if (!res.body.empty()) return;  // already an error of ours
-    ReplyError(res, res.status, Str(req.method, " ", req.path, ": no such endpoint (GET /status, POST /start, POST /stop)"));
+    ReplyUnhandled(req, res, options_.max_body_bytes);
   });
 }
 
