@@ -2,6 +2,8 @@
 
 #include <arpa/inet.h>
 
+#include <optional>
+
 #include "capture/daemon/json_depth.h"
 #include "core/check.h"
 // Last: it pulls in <resolv.h>, whose `_res` macro breaks Eigen headers included after it.
@@ -126,15 +128,21 @@ bool MethodAllowed(const std::string& path, const std::string& method) {
   return false;
 }
 
-// Bodies the server would read without the size limit: cpp-httplib checks max length only against
-// Content-Length, not against chunked transfer or the decompressed size of a gzip/brotli body.
-AccessDecision CheckBodyFraming(const httplib::Request& req) {
-  if (req.get_header_value("Transfer-Encoding").find("chunked") != std::string::npos)
-    return {411, Str(req.method, " ", req.path, ": chunked bodies are not accepted; send a Content-Length")};
-  const std::string encoding = req.get_header_value("Content-Encoding");
-  if (!encoding.empty() && encoding != "identity")
-    return {415, Str(req.method, " ", req.path, ": Content-Encoding '", encoding, "' is not accepted; send plain JSON")};
-  return {};
+// A request body of at most max_bytes (after decompression), read through cpp-httplib's content
+// reader: its own limit covers only Content-Length, not chunked transfer or an inflating gzip body.
+// nullopt when it is larger (res.status 413) or cannot be read (res.status 4xx).
+std::optional<std::string> ReadBoundedBody(const httplib::ContentReader& reader, size_t max_bytes, httplib::Response& res) {
+  std::string body;
+  bool too_large = false;
+  const bool read = reader([&](const char* data, size_t size) {
+    if (body.size() + size > max_bytes) return !(too_large = true);
+    body.append(data, size);
+    return true;
+  });
+  if (too_large) res.status = 413;
+  if (read && !too_large) return body;
+  if (res.status < 400) res.status = 400;
+  return std::nullopt;
 }
 
 // The JSON error for a request that no handler answered (or whose body could not be read).
@@ -166,25 +174,33 @@ void ControlServer::AddRoutes() {
   server_->set_write_timeout(options_.read_timeout_s);  // a client that does not read its answer
   server_->set_payload_max_length(options_.max_body_bytes);
   server_->set_pre_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
-    AccessDecision decision = CheckAccess(options_, req.remote_addr, req.get_header_value("Authorization"));
-    if (decision.status == 0) decision = CheckBodyFraming(req);
-    if (decision.status == 0) return httplib::Server::HandlerResponse::Unhandled;
-    ReplyError(res, decision.status, decision.error);
-    // The body was not read: the connection cannot carry another request.
-    res.set_header("Connection", "close");
+    const AccessDecision access = CheckAccess(options_, req.remote_addr, req.get_header_value("Authorization"));
+    if (access.status == 0) return httplib::Server::HandlerResponse::Unhandled;
+    ReplyError(res, access.status, access.error);
     return httplib::Server::HandlerResponse::Handled;
   });
   server_->Get("/status", [this](const httplib::Request&, httplib::Response& res) {
     Guarded(res, [&] { return daemon_.Status(); });
   });
-  server_->Post("/start", [this](const httplib::Request& req, httplib::Response& res) {
-    Guarded(res, [&] { return daemon_.StartSession(SessionNameFromBody(req.body, options_.max_json_depth)); });
-  });
-  server_->Post("/stop", [this](const httplib::Request&, httplib::Response& res) {
-    Guarded(res, [&] { return daemon_.StopSession(); });
-  });
-  // Wrong methods and unknown paths reach no handler: cpp-httplib answers 404 (or 400 for a method it
-  // has no handler table for, like TRACE) and this handler turns that into 405 or 404 with a JSON error.
+  // Every request with a body (any path) is read here, bounded; then /start and /stop are served and
+  // anything else falls through to the error handler below (405 or 404).
+  const auto with_body = [this](const httplib::Request& req, httplib::Response& res, const httplib::ContentReader& reader) {
+    const std::optional<std::string> body = ReadBoundedBody(reader, options_.max_body_bytes, res);
+    if (!body) return;  // res.status 413 or 400: the error handler answers
+    if (req.method == "POST" && req.path == "/start")
+      Guarded(res, [&] { return daemon_.StartSession(SessionNameFromBody(*body, options_.max_json_depth)); });
+    else if (req.method == "POST" && req.path == "/stop")
+      Guarded(res, [&] { return daemon_.StopSession(); });
+    else
+      res.status = 404;  // the error handler makes it 405 on a known path
+  };
+  server_->Post(".*", with_body);
+  server_->Put(".*", with_body);
+  server_->Patch(".*", with_body);
+  server_->Delete(".*", with_body);
+  // Wrong methods and unknown paths reach no handler (or with_body's 404): cpp-httplib answers 404 (or
+  // 400 for a method it has no handler table for, like TRACE) and this handler turns that into 405 or
+  // 404 with a JSON error.
   server_->set_error_handler([this](const httplib::Request& req, httplib::Response& res) {
     if (!res.body.empty()) return;  // already an error of ours
     ReplyUnhandled(req, res, options_.max_body_bytes);

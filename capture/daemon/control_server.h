@@ -5,8 +5,8 @@
 //   POST /start  {"name": "S"}       -> 200 {"session", "dir", "state"}; 400 bad request; 409 recording
 //   POST /stop                       -> 200 the session summary; 409 nothing to stop
 // Every error is a JSON object {"error": "..."} with a 4xx/5xx status: 404 an unknown path, 405 (with
-// Allow) a known path with another method, 413 a body over max_body_bytes, 411 a chunked body, 415 a
-// compressed one, 400 JSON nested deeper than max_json_depth. Access: clients from loopback addresses
+// Allow) a known path with another method, 413 a body over max_body_bytes (also chunked, or once
+// decompressed), 400 JSON nested deeper than max_json_depth. Access: clients from loopback addresses
 // only, unless allow_remote is set; binding to a non-loopback address requires allow_remote and a
 // token, and then every request must carry "Authorization: Bearer <token>".
 #include <cstddef>
