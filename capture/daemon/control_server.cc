@@ -2,6 +2,9 @@
 
 #include <arpa/inet.h>
 
+#include <optional>
+
+#include "capture/daemon/json_depth.h"
 #include "core/check.h"
 // Last: it pulls in <resolv.h>, whose `_res` macro breaks Eigen headers included after it.
 #include <httplib.h>
@@ -15,9 +18,13 @@ void ControlServerOptions::check() const {
   if (port < 0 || port > 65535) throw InputError("control port", Str(port, " is not in 0..65535"));
   if (!IsLoopbackAddress(bind) && !allow_remote)
     throw InputError("control bind '" + bind + "'",
-                     "is not a loopback address: pass --allow-remote and a --token to serve other hosts");
+                     "is not a loopback address: pass --allow-remote and a token (--token-file) to serve other hosts");
   if (allow_remote && token.empty())
-    throw InputError("--allow-remote", "needs a --token: remote clients must authenticate");
+    throw InputError("--allow-remote", "needs a token (--token-file F, $MOCAPLABEL_TOKEN or --token T): remote clients must authenticate");
+  if (max_body_bytes == 0 || max_json_depth < 1 || worker_threads < 1 || idle_timeout_s < 1 || read_timeout_s < 1)
+    throw InputError("control limits", Str("must be positive (max_body_bytes ", max_body_bytes, ", max_json_depth ",
+                                           max_json_depth, ", worker_threads ", worker_threads, ", idle_timeout_s ",
+                                           idle_timeout_s, ", read_timeout_s ", read_timeout_s, ")"));
 }
 
 bool IsLoopbackAddress(const std::string& address) {
@@ -32,7 +39,7 @@ AccessDecision CheckAccess(const ControlServerOptions& options, const std::strin
                            const std::string& authorization_header) {
   if (!options.allow_remote && !IsLoopbackAddress(remote_addr))
     return {403, "control API: clients from " + remote_addr +
-                     " are refused (loopback only; start the daemon with --allow-remote and a --token)"};
+                     " are refused (loopback only; start the daemon with --allow-remote and a token)"};
   if (!options.token.empty() && authorization_header != "Bearer " + options.token)
     return {401, "control API: missing or wrong token (send 'Authorization: Bearer <token>')"};
   return {};
@@ -48,7 +55,9 @@ void Reply(httplib::Response& res, int status, const nlohmann::json& body) {
 void ReplyError(httplib::Response& res, int status, const std::string& error) { Reply(res, status, {{"error", error}}); }
 
 // The session name of a /start body: {"name": "..."} and nothing else that we would ignore silently.
-std::string SessionNameFromBody(const std::string& body) {
+std::string SessionNameFromBody(const std::string& body, int max_json_depth) {
+  if (JsonNestingDepth(body, max_json_depth) > max_json_depth)
+    throw InputError("POST /start body", Str("nests deeper than ", max_json_depth, " levels; send {\"name\": \"SESSION\"}"));
   nlohmann::json request;
   try {
     request = nlohmann::json::parse(body);
@@ -104,7 +113,66 @@ void ControlServer::Stop() {
   if (thread_.joinable()) thread_.join();
 }
 
+namespace {
+
+// The endpoints and their methods: anything else on these paths is 405, any other path 404.
+const char* AllowedMethods(const std::string& path) {
+  if (path == "/status") return "GET, HEAD";
+  if (path == "/start" || path == "/stop") return "POST";
+  return nullptr;
+}
+
+bool MethodAllowed(const std::string& path, const std::string& method) {
+  if (path == "/status") return method == "GET" || method == "HEAD";
+  if (path == "/start" || path == "/stop") return method == "POST";
+  return false;
+}
+
+// A request body of at most max_bytes (after decompression), read through cpp-httplib's content
+// reader: its own limit covers only Content-Length, not chunked transfer or an inflating gzip body.
+// nullopt when it is larger (res.status 413) or cannot be read (res.status 4xx).
+std::optional<std::string> ReadBoundedBody(const httplib::ContentReader& reader, size_t max_bytes, httplib::Response& res) {
+  std::string body;
+  bool too_large = false;
+  const bool read = reader([&](const char* data, size_t size) {
+    if (body.size() + size > max_bytes) return !(too_large = true);
+    body.append(data, size);
+    return true;
+  });
+  if (too_large) res.status = 413;
+  if (read && !too_large) return body;
+  if (res.status < 400) res.status = 400;
+  return std::nullopt;
+}
+
+// The JSON error for a request that no handler answered (or whose body could not be read).
+void ReplyUnhandled(const httplib::Request& req, httplib::Response& res, size_t max_body_bytes) {
+  if (res.status == 413) {
+    ReplyError(res, 413, Str(req.method, " ", req.path, ": body larger than ", max_body_bytes,
+                             " bytes; send {\"name\": \"SESSION\"}"));
+    res.set_header("Connection", "close");
+    return;
+  }
+  if (const char* allowed = AllowedMethods(req.path); allowed && !MethodAllowed(req.path, req.method)) {
+    ReplyError(res, 405, Str(req.method, " ", req.path, ": method not allowed; use ", allowed));
+    res.set_header("Allow", allowed);
+    return;
+  }
+  if (!AllowedMethods(req.path) && !req.path.empty()) {
+    ReplyError(res, 404, Str(req.method, " ", req.path, ": no such endpoint (GET /status, POST /start, POST /stop)"));
+    return;
+  }
+  ReplyError(res, res.status, Str(req.method, " ", req.path, ": malformed request"));
+}
+
+}  // namespace
+
 void ControlServer::AddRoutes() {
+  server_->new_task_queue = [threads = options_.worker_threads] { return new httplib::ThreadPool(static_cast<size_t>(threads)); };
+  server_->set_keep_alive_timeout(options_.idle_timeout_s);
+  server_->set_read_timeout(options_.read_timeout_s);
+  server_->set_write_timeout(options_.read_timeout_s);  // a client that does not read its answer
+  server_->set_payload_max_length(options_.max_body_bytes);
   server_->set_pre_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
     const AccessDecision access = CheckAccess(options_, req.remote_addr, req.get_header_value("Authorization"));
     if (access.status == 0) return httplib::Server::HandlerResponse::Unhandled;
@@ -114,22 +182,28 @@ void ControlServer::AddRoutes() {
   server_->Get("/status", [this](const httplib::Request&, httplib::Response& res) {
     Guarded(res, [&] { return daemon_.Status(); });
   });
-  server_->Post("/start", [this](const httplib::Request& req, httplib::Response& res) {
-    Guarded(res, [&] { return daemon_.StartSession(SessionNameFromBody(req.body)); });
-  });
-  server_->Post("/stop", [this](const httplib::Request&, httplib::Response& res) {
-    Guarded(res, [&] { return daemon_.StopSession(); });
-  });
-  for (const char* path : {"/start", "/stop"})
-    server_->Get(path, [path](const httplib::Request&, httplib::Response& res) {
-      ReplyError(res, 405, Str("GET ", path, ": use POST"));
-    });
-  server_->Post("/status", [](const httplib::Request&, httplib::Response& res) {
-    ReplyError(res, 405, "POST /status: use GET");
-  });
-  server_->set_error_handler([](const httplib::Request& req, httplib::Response& res) {
+  // Every request with a body (any path) is read here, bounded; then /start and /stop are served and
+  // anything else falls through to the error handler below (405 or 404).
+  const auto with_body = [this](const httplib::Request& req, httplib::Response& res, const httplib::ContentReader& reader) {
+    const std::optional<std::string> body = ReadBoundedBody(reader, options_.max_body_bytes, res);
+    if (!body) return;  // res.status 413 or 400: the error handler answers
+    if (req.method == "POST" && req.path == "/start")
+      Guarded(res, [&] { return daemon_.StartSession(SessionNameFromBody(*body, options_.max_json_depth)); });
+    else if (req.method == "POST" && req.path == "/stop")
+      Guarded(res, [&] { return daemon_.StopSession(); });
+    else
+      res.status = 404;  // the error handler makes it 405 on a known path
+  };
+  server_->Post(".*", with_body);
+  server_->Put(".*", with_body);
+  server_->Patch(".*", with_body);
+  server_->Delete(".*", with_body);
+  // Wrong methods and unknown paths reach no handler (or with_body's 404): cpp-httplib answers 404 (or
+  // 400 for a method it has no handler table for, like TRACE) and this handler turns that into 405 or
+  // 404 with a JSON error.
+  server_->set_error_handler([this](const httplib::Request& req, httplib::Response& res) {
     if (!res.body.empty()) return;  // already an error of ours
-    ReplyError(res, res.status, Str(req.method, " ", req.path, ": no such endpoint (GET /status, POST /start, POST /stop)"));
+    ReplyUnhandled(req, res, options_.max_body_bytes);
   });
 }
 

@@ -4,9 +4,12 @@
 //   GET  /status                     -> 200 CaptureDaemon::Status()
 //   POST /start  {"name": "S"}       -> 200 {"session", "dir", "state"}; 400 bad request; 409 recording
 //   POST /stop                       -> 200 the session summary; 409 nothing to stop
-// Every error is a JSON object {"error": "..."} with a 4xx/5xx status. Access: clients from loopback
-// addresses only, unless allow_remote is set; binding to a non-loopback address requires allow_remote
-// and a token, and then every request must carry "Authorization: Bearer <token>".
+// Every error is a JSON object {"error": "..."} with a 4xx/5xx status: 404 an unknown path, 405 (with
+// Allow) a known path with another method, 413 a body over max_body_bytes (also chunked, or once
+// decompressed), 400 JSON nested deeper than max_json_depth. Access: clients from loopback addresses
+// only, unless allow_remote is set; binding to a non-loopback address requires allow_remote and a
+// token, and then every request must carry "Authorization: Bearer <token>".
+#include <cstddef>
 #include <memory>
 #include <string>
 #include <thread>
@@ -24,7 +27,18 @@ struct ControlServerOptions {
   int port = 8780;                 ///< 0: any free port (see ControlServer::port())
   bool allow_remote = false;       ///< serve clients that are not on a loopback address
   std::string token{};              ///< required from every client when set (and with allow_remote)
-  /// Throws InputError: a non-loopback bind without allow_remote, or allow_remote without a token.
+  /// Request limits. A /start body is about 20 bytes; the limits keep a hostile or broken client from
+  /// costing the recording daemon memory (a 10 MB '[[[...' body once cost 700 MB and 14 s).
+  size_t max_body_bytes = 64 * 1024;  ///< larger bodies: 413, read and discarded, never stored
+  int max_json_depth = 8;             ///< deeper JSON: 400 before parsing
+  /// Connections. Each open connection holds a worker while it waits for a request, so idle or slow
+  /// clients must not be able to occupy all workers (with cpp-httplib's 8, eight idle connections
+  /// stalled the API for 5 s).
+  int worker_threads = 64;        ///< connections served at once
+  int idle_timeout_s = 1;         ///< a connection without a (next) request is closed after this
+  int read_timeout_s = 5;         ///< a request that stops arriving mid-way is dropped after this
+  /// Throws InputError: a non-loopback bind without allow_remote, allow_remote without a token, or a
+  /// limit that is not positive.
   void check() const;
 };
 

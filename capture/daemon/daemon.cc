@@ -4,6 +4,7 @@
 
 #include <deque>
 
+#include "capture/daemon/software_version.h"
 #include "core/check.h"
 #include "core/log.h"
 
@@ -123,6 +124,7 @@ void CaptureDaemon::PushEvent(EventRecord&& event) {
 SessionManifest CaptureDaemon::BuildManifest() const {
   SessionManifest manifest;
   manifest.source = "capture";
+  manifest.software_version = CaptureSoftwareVersion();
   for (const auto& source : sources_) AddStream(manifest, source->stream_info());
   manifest.extra = options_.manifest_extra;
   manifest.extra["rig"] = options_.rig_name;

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "capture/daemon/control_server.h"
+#include "capture/daemon/control_token.h"
 #include "capture/daemon/daemon.h"
 #include "capture/daemon/rerecord.h"
 #include "capture/daemon/sources.h"
@@ -77,6 +78,7 @@ struct ClientFlags {
   std::string host = "127.0.0.1";
   int port = 8780;
   std::string token;
+  std::string token_file;
   std::string rig;
   bool json = false;
 };
@@ -94,7 +96,8 @@ int Request(const ClientFlags& flags, const std::string& method, const std::stri
   client.set_connection_timeout(2);
   client.set_read_timeout(30);
   httplib::Headers headers;
-  if (!where.token.empty()) headers.emplace("Authorization", "Bearer " + where.token);
+  const std::string token = capture::ResolveControlToken(capture::TokenSourcesFromEnvironment(flags.token, flags.token_file));
+  if (!token.empty()) headers.emplace("Authorization", "Bearer " + token);
   const httplib::Result result = method == "GET" ? client.Get(path, headers)
                                                  : client.Post(path, headers, body.dump(), "application/json");
   if (!result)
@@ -143,7 +146,8 @@ int PrintReplay(const capture::RerecordResult& r, bool json) {
 void AddClientFlags(CLI::App* command, ClientFlags& flags) {
   command->add_option("--host", flags.host, "daemon address")->capture_default_str();
   command->add_option("--port", flags.port, "daemon control port")->capture_default_str();
-  command->add_option("--token", flags.token, "token the daemon was started with");
+  command->add_option("--token", flags.token, "token the daemon was started with (visible in ps: prefer --token-file or $MOCAPLABEL_TOKEN)");
+  command->add_option("--token-file", flags.token_file, "read the token from the first line of this file");
   command->add_option("--rig", flags.rig, "take the control address from this rig file");
   command->add_flag("--json", flags.json, "print the daemon's JSON answer on stdout");
 }
@@ -162,7 +166,10 @@ int RunCapture(int argc, char** argv) {
   CLI::Option* port = daemon->add_option("--port", control.port, "control port (0: any free port)");
   CLI::Option* bind = daemon->add_option("--bind", control.bind, "control address (non-loopback needs --allow-remote)");
   daemon->add_flag("--allow-remote", control.allow_remote, "serve clients that are not on loopback (needs --token)");
-  daemon->add_option("--token", control.token, "require 'Authorization: Bearer TOKEN' from every client");
+  std::string token_file;
+  daemon->add_option("--token", control.token,
+                     "require 'Authorization: Bearer TOKEN' from every client (visible in ps: prefer --token-file or $MOCAPLABEL_TOKEN)");
+  daemon->add_option("--token-file", token_file, "read the token from the first line of this file");
   daemon->add_flag("--json", daemon_json, "print where it listens as one JSON line on stdout");
 
   ClientFlags flags;
@@ -188,9 +195,11 @@ int RunCapture(int argc, char** argv) {
     return PrintReplay(capture::RerecordSession(rerecord), replay_json);
   }
 
-  if (daemon->parsed())
+  if (daemon->parsed()) {
+    control.token = capture::ResolveControlToken(capture::TokenSourcesFromEnvironment(control.token, token_file));
     return RunDaemon(rig_path, sessions.empty() ? std::nullopt : std::optional<fs::path>(sessions), control,
                      port->count() > 0, bind->count() > 0, daemon_json);
+  }
   if (start->parsed())
     return Request(flags, "POST", "/start", {{"name", name}},
                    [](const nlohmann::json& a) { std::printf("recording %s\n", a["dir"].get<std::string>().c_str()); });

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <signal.h>
 
+#include <chrono>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -27,7 +28,11 @@ using namespace std::chrono_literals;
 using testing::ChildProcess;
 
 constexpr double kTrackerRateHz = 30;
-constexpr int kReplayFrames = 45;  // 1.5 s at 30 Hz: the 9 TUM frames five times over
+// 2 s at 30 Hz: the 9 TUM frames over and over. The replay starts when the daemon opens the device,
+// before `capture start` (a process of its own) arrives: on a loaded host that can take a second, and
+// the frames served after it must still be enough to check. Longer would risk the writer falling 32
+// frames behind on such a host, which the test rightly counts as a failure.
+constexpr int kReplayFrames = 60;
 
 struct Endpoint {
   std::unique_ptr<ChildProcess> process;
@@ -35,7 +40,7 @@ struct Endpoint {
 };
 
 nlohmann::json FirstJsonLine(ChildProcess& process, const std::string& what) {
-  const std::optional<std::string> line = process.ReadLine(15000);
+  const std::optional<std::string> line = process.ReadLine(30000);  // devices opened first; a loaded host
   if (!line) throw std::runtime_error(what + " printed nothing; log:\n" + process.Log());
   return nlohmann::json::parse(*line);
 }
@@ -82,9 +87,10 @@ nlohmann::json Status(const fs::path& dir, int port) {
 }
 
 nlohmann::json Source(const nlohmann::json& status, const std::string& name) {
+  if (!status.is_object() || !status.contains("sources")) return nlohmann::json::object();  // a failed poll
   for (const auto& s : status["sources"])
     if (s["name"] == name) return s["device"];
-  return {};
+  return nlohmann::json::object();
 }
 
 struct TruthRow {
@@ -153,16 +159,39 @@ void ExpectCameraMatchesReplay(const SessionReader& reader, const std::vector<te
       EXPECT_GT(r.stamp_ns, reader.frame("kinect1", i - 1).record.stamp_ns);
     }
   }
-  // Host stamps follow the device clock (replay sleeps reproduce the 33 ms spacing, late on a busy host).
-  const double span_s = (reader.frame("kinect1", n - 1).record.stamp_ns - reader.frame("kinect1", 0).record.stamp_ns) * 1e-9;
-  EXPECT_GT(span_s, (n - 1) / 30.0 * 0.9);
-  EXPECT_LT(span_s, (n - 1) / 30.0 * 2.0);
+  // Host stamps follow the recording's clock: the replay sleeps its spacing, so a frame is never
+  // received earlier (after the first) than the recording says, less the first frame's receive delay
+  // (100 ms on a loaded host, as for the tracker); a busy host only delays frames, at most doubling the
+  // span. Compared per frame with what was served, not as a ratio of a few frames' span, which one
+  // late first frame distorts when `start` came late and few frames were recorded.
+  const double served_first_s = frames[static_cast<size_t>(first)].depth_stamp_s;
+  const int64_t stamp_first_ns = reader.frame("kinect1", 0).record.stamp_ns;
+  for (int64_t i = 0; i < n; ++i) {
+    const double served_s = frames[static_cast<size_t>(first + i)].depth_stamp_s - served_first_s;
+    const double received_s = (reader.frame("kinect1", i).record.stamp_ns - stamp_first_ns) * 1e-9;
+    EXPECT_GT(received_s, served_s - 0.1) << "frame " << i << " received before the replay served it";
+  }
+  const double served_span_s = frames[static_cast<size_t>(first + n - 1)].depth_stamp_s - served_first_s;
+  const double span_s = (reader.frame("kinect1", n - 1).record.stamp_ns - stamp_first_ns) * 1e-9;
+  EXPECT_LT(span_s, served_span_s * 2.0 + 0.1);
   for (const int64_t i : {int64_t{0}, n - 1}) {
     const testing::TumFrame& f = frames[static_cast<size_t>(first + i)];
     EXPECT_EQ(cv::norm(reader.LoadColor("kinect1", i), f.bgr, cv::NORM_INF), 0.0) << "colour of frame " << i;
     const cv::Mat depth_mm = cv::imread(reader.DepthPath("kinect1", i).string(), cv::IMREAD_ANYDEPTH);  // mm
     EXPECT_EQ(cv::norm(depth_mm, ExpectedDepthMm(f.depth_m), cv::NORM_INF), 0.0) << "depth of frame " << i;
   }
+}
+
+// Least-squares line stamp_ns = intercept + slope * (device_frame - the first's): {intercept, slope}.
+std::pair<double, double> FitLine(const std::vector<TrackerRecord>& body) {
+  double n = 0, sx = 0, sy = 0, sxx = 0, sxy = 0;
+  for (const TrackerRecord& r : body) {
+    const double x = static_cast<double>(r.device_frame - body.front().device_frame);
+    const double y = static_cast<double>(r.stamp_ns - body.front().stamp_ns);  // small numbers: no cancellation
+    n += 1, sx += x, sy += y, sxx += x * x, sxy += x * y;
+  }
+  const double slope = (n * sxy - sx * sy) / (n * sxx - sx * sx);
+  return {static_cast<double>(body.front().stamp_ns) + (sy - slope * sx) / n, slope};
 }
 
 void ExpectTrackerMatchesEmulator(const SessionReader& reader, const fs::path& truth_csv, const nlohmann::json& info) {
@@ -191,13 +220,14 @@ void ExpectTrackerMatchesEmulator(const SessionReader& reader, const fs::path& t
     }
   EXPECT_EQ(static_cast<int64_t>(seen.size()), served_in_range) << "samples served during the session are missing";
   unserved_frames = (last - first + 1) - static_cast<int64_t>(frames_served.size());
-  // Stamps against frame numbers: the emulator's rate, receive jitter well under a frame or two.
+  // Stamps against frame numbers: the emulator's rate (its frame numbers come from its clock), receive
+  // jitter well under a frame or two. The line is fitted through every sample: a line through the first
+  // and last alone tilts by their receive delays (100 ms over a 2 s session is 5 %).
   const auto body = reader.BodyRecords("ndi", records.front().body);
-  const double slope_ns = static_cast<double>(body.back().stamp_ns - body.front().stamp_ns) /
-                          static_cast<double>(body.back().device_frame - body.front().device_frame);
+  const auto [intercept_ns, slope_ns] = FitLine(body);
   EXPECT_NEAR(slope_ns, 1e9 / kTrackerRateHz, 0.05e9 / kTrackerRateHz);
   for (const TrackerRecord& r : body) {
-    const double predicted = body.front().stamp_ns + (r.device_frame - body.front().device_frame) * slope_ns;
+    const double predicted = intercept_ns + (r.device_frame - body.front().device_frame) * slope_ns;
     EXPECT_LT(std::abs(r.stamp_ns - predicted), 100e6) << "frame " << r.device_frame;  // a loaded CI host
   }
   if (!info.contains("tracker_bodies")) return;  // no `info` document to compare with
@@ -214,14 +244,23 @@ TEST(CaptureDaemonE2E, RecordsWhatTheEmulatorAndTheReplayServed) {
   const std::string port = std::to_string(daemon.port);
   const auto [start_rc, started] = Cli(dir, {"capture", "start", "--name", "S", "--port", port});
   ASSERT_EQ(start_rc, 0) << started.dump() << daemon.process->Log();
+  // Until the replay has served its last frame, and `status` has shown the tracked body visible. A
+  // deadline, not a number of polls: each poll is a `capture status` process, slow on a loaded host.
   nlohmann::json status;
-  for (int i = 0; i < 100; ++i) {  // until the replay has served its last frame
+  bool ended = false, visible = false;
+  for (const auto deadline = std::chrono::steady_clock::now() + 60s; !(ended && visible) && std::chrono::steady_clock::now() < deadline;) {
     status = Status(dir, daemon.port);
-    if (!Source(status, "kinect1").value("stream_ended", std::string()).empty()) break;
-    std::this_thread::sleep_for(100ms);
+    if (!status.is_object() || !status.contains("sources")) {  // a poll that timed out on a loaded host: retry
+      std::this_thread::sleep_for(100ms);
+      continue;
+    }
+    ended = !Source(status, "kinect1").value("stream_ended", std::string()).empty();
+    // Visible: a pose within the last 0.5 s; one poll may fall into a stall of a loaded host.
+    visible = visible || status["streams"]["ndi"]["bodies"]["handle-01"]["visible"] == true;
+    if (!(ended && visible)) std::this_thread::sleep_for(100ms);
   }
-  ASSERT_FALSE(Source(status, "kinect1").value("stream_ended", std::string()).empty()) << status.dump();
-  EXPECT_EQ(status["streams"]["ndi"]["bodies"]["handle-01"]["visible"], true) << status.dump();
+  ASSERT_TRUE(ended) << status.dump();
+  EXPECT_TRUE(visible) << status.dump();
   std::this_thread::sleep_for(300ms);
   const auto [stop_rc, summary] = Cli(dir, {"capture", "stop", "--port", port});
   ASSERT_EQ(stop_rc, 0) << summary.dump();

@@ -62,6 +62,7 @@ TEST(SimRecord, WritesASessionWithTruthAndTheCalibrationFilesReproducibly) {
   EXPECT_TRUE(session.complete());
   ASSERT_EQ(session.frame_count(a.camera_name), 4);
   EXPECT_EQ(session.manifest().trackers.at(0).bodies.size(), scenario.objects.size() + 1);
+  EXPECT_FALSE(session.manifest().software_version.empty()) << "the session does not say which mocaplabel wrote it";
   EXPECT_EQ(session.frame(a.camera_name, 2).record.stamp_ns, a.truth.frames[2].depth_time_ns);
   for (const char* file : {"truth/poses.jsonl", "truth/calibration.json", "truth/instance/000003.png", "rig.yaml",
                            "objects.yaml", "meshes/oil_bottle.ply"})

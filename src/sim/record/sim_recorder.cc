@@ -13,6 +13,7 @@
 #include "session/writer.h"
 #include "sim/mesh_generator.h"
 #include "sim/record/frame_render.h"
+#include "sim/record/software_version.h"
 #include "sim/record/truth_io.h"
 
 namespace mocap::sim {
@@ -23,6 +24,7 @@ namespace fs = std::filesystem;
 SessionManifest SimManifest(const Scenario& scenario, const SimObjects& library, const RigCalibration& given) {
   SessionManifest manifest;
   manifest.source = "sim " + scenario.options.name;
+  manifest.software_version = SimSoftwareVersion();
   CameraStreamInfo camera;
   camera.name = SimCameraName(scenario.options.sensor);
   camera.model = std::string(ToString(scenario.options.sensor));
