@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.h"
+#include "cli/progress_flag.h"
 #include "core/check.h"
 #include "pipeline/object_library.h"
 #include "session/import/bop_import.h"
@@ -97,17 +98,21 @@ int RunImport(int argc, char** argv) {
   bop->add_option("scene", source, "scene folder (scene_camera.json, scene_gt.json, rgb/)")->required();
   bop->add_option("--models", models, "models folder (models_info.json, obj_NNNNNN.ply)")->required();
   bop->add_option("--rate", rate_hz, "synthetic frame rate turning im_id into time (Hz)")->capture_default_str();
+  ProgressFlags progress_flags;
   for (auto* sub : {tum, plus, motive, bop}) {
+    AddProgressFlags(*sub, progress_flags);
     sub->add_option("--out", out, "new session folder")->required();
     sub->add_flag("--json", json, "print one JSON document");
     if (sub != bop) sub->add_option("--gap-limit", gap_limit_s, "log spans between samples longer than this (s)")->capture_default_str();
   }
   CLI11_PARSE(app, argc, argv);
 
+  const std::unique_ptr<ProgressSink> progress = ApplyProgressFlags(progress_flags);
   import::ImportSummary summary;
   if (tum->parsed()) {
     import::TumImportOptions options;
     options.software_version = MOCAP_VERSION;
+    options.progress = progress.get();
     options.gap_limit_ns = Nanoseconds(gap_limit_s, "--gap-limit");
     options.association.max_difference_ns = Nanoseconds(max_difference_s, "--max-difference");
     options.depth_units_per_metre = import::CheckInRange(depth_factor, import::kDepthUnitsPerMetreRange, "--depth-factor");
@@ -116,11 +121,13 @@ int RunImport(int argc, char** argv) {
   } else if (plus->parsed() || motive->parsed()) {
     import::TrackerImportOptions options;
     options.software_version = MOCAP_VERSION;
+    options.progress = progress.get();
     options.gap_limit_ns = Nanoseconds(gap_limit_s, "--gap-limit");
     summary = plus->parsed() ? import::ImportPlus(source, out, options) : import::ImportMotive(source, out, options);
   } else {
     import::BopImportOptions options;
     options.software_version = MOCAP_VERSION;
+    options.progress = progress.get();
     options.frame_rate_hz = import::CheckInRange(rate_hz, import::kBopFrameRateRangeHz, "--rate");
     options.write_objects = pipeline::WriteBopObjects;
     summary = import::ImportBop(source, models, out, options);

@@ -74,9 +74,11 @@ std::vector<BopObject> Objects(const nlohmann::json& list) {
   return objects;
 }
 
-void WriteGroup(SessionWriter& writer, const CameraGroup& group, const BopImportOptions& options, ImportSummary& summary) {
+void WriteGroup(SessionWriter& writer, const CameraGroup& group, const BopImportOptions& options, Progress& progress,
+                ImportSummary& summary) {
   std::map<std::string, std::vector<TrackerRecord>> by_body;
   for (const auto* f : group.frames) {
+    progress.Advance();
     CameraFrameRecord record;
     record.frame = f->im_id;
     record.stamp_ns = StampNs(f->im_id, options.frame_rate_hz);
@@ -152,7 +154,8 @@ ImportSummary ImportBop(const std::filesystem::path& scene_dir, const std::files
   if (groups.size() > 1) summary.notes.push_back(Str("cam_K varies: ", groups.size(), " cameras, one per distinct K"));
   PublishSession(out, scene_dir, manifest, [&](SessionWriter& writer, const std::filesystem::path& dir) {
     options.write_objects(dir / "objects.yaml", Objects(objects), manifest.source);
-    for (const auto& g : groups) WriteGroup(writer, g, options, summary);
+    Progress progress(options.progress, "import", static_cast<int64_t>(scene.frames.size()), "frames");
+    for (const auto& g : groups) WriteGroup(writer, g, options, progress, summary);
   });
   return summary;
 }

@@ -21,6 +21,7 @@
 #include <vector>
 #include <string>
 
+#include "core/progress.h"
 #include "session/import/import_common.h"
 
 namespace mocap::import {
@@ -37,6 +38,7 @@ struct BopObject {
 struct BopImportOptions {
   double frame_rate_hz = 30.0;  ///< synthetic rate turning im_id into stamps
   std::string software_version;
+  ProgressSink* progress = nullptr;  ///< frames (bodies) written / total; not owned, may be null
   /// Writes the session's objects.yaml (the pipeline's writer, pipeline/object_library.h): called
   /// before the session is closed, so a complete session always has it. Required.
   std::function<void(const std::filesystem::path& file, const std::vector<BopObject>& objects, const std::string& source)>

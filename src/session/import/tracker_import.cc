@@ -91,7 +91,8 @@ ImportSummary ImportPlus(const std::filesystem::path& mha_file, const std::files
   for (const auto& field : seq.ignored_fields)
     summary.notes.push_back("per-frame field " + QuoteForMessage(field) + " is not a <From>To<To>Transform channel: not imported");
   PublishSession(out, mha_file, manifest, [&](SessionWriter& writer, const std::filesystem::path&) {
-    for (size_t k = 0; k < bodies.size(); ++k) {
+    Progress progress(options.progress, "import", static_cast<int64_t>(bodies.size()), "bodies");
+    for (size_t k = 0; k < bodies.size(); ++k, progress.Advance()) {
       WriteBodySamples(writer, "plus", PlusRecords(seq, seq.transforms[k], bodies[k]), options.gap_limit_ns, summary);
       LogPlusStatuses(writer, seq, seq.transforms[k]);
     }
@@ -122,8 +123,11 @@ ImportSummary ImportMotive(const std::filesystem::path& csv_file, const std::fil
   summary.notes.push_back("marker columns are not imported (rigid bodies only)");
   summary.notes.push_back("stamps count from the take start ('Time (Seconds)'), not from the wall clock");
   PublishSession(out, csv_file, manifest, [&](SessionWriter& writer, const std::filesystem::path&) {
-    for (const auto& body : take.rigid_bodies)
+    Progress progress(options.progress, "import", static_cast<int64_t>(take.rigid_bodies.size()), "bodies");
+    for (const auto& body : take.rigid_bodies) {
       WriteBodySamples(writer, "motive", MotiveRecords(take, body), options.gap_limit_ns, summary);
+      progress.Advance();
+    }
   });
   return summary;
 }

@@ -14,6 +14,7 @@
 #include <filesystem>
 #include <string>
 
+#include "core/progress.h"
 #include "session/import/import_common.h"
 
 namespace mocap::import {
@@ -21,6 +22,7 @@ namespace mocap::import {
 struct TrackerImportOptions {
   int64_t gap_limit_ns = 500'000'000;  ///< spans longer than this are logged as gaps
   std::string software_version;
+  ProgressSink* progress = nullptr;  ///< frames (bodies) written / total; not owned, may be null
   void check() const;
 };
 

@@ -91,8 +91,9 @@ SessionManifest BaseManifest(const std::filesystem::path& source, const TumImpor
   return manifest;
 }
 
-void WriteFrames(SessionWriter& writer, const std::vector<PlannedFrame>& frames, ImportSummary& summary) {
-  for (size_t i = 0; i < frames.size(); ++i) {
+void WriteFrames(SessionWriter& writer, const std::vector<PlannedFrame>& frames, ProgressSink* sink, ImportSummary& summary) {
+  Progress progress(sink, "import", static_cast<int64_t>(frames.size()), "frames");
+  for (size_t i = 0; i < frames.size(); ++i, progress.Advance()) {
     const auto& f = frames[i];
     CameraFrameRecord record;
     record.frame = static_cast<int64_t>(i);
@@ -172,7 +173,7 @@ ImportSummary ImportTum(const std::filesystem::path& source, const std::filesyst
     summary.notes.push_back(Str(seq.depth.file.string(), ":", line, ": header line without '#' skipped"));
   const std::vector<PlannedFrame> frames = PlanFrames(seq);
   PublishSession(out, source, manifest, [&](SessionWriter& writer, const std::filesystem::path&) {
-    WriteFrames(writer, frames, summary);
+    WriteFrames(writer, frames, options.progress, summary);
     WriteBodySamples(writer, kTracker, GroundTruthRecords(seq.groundtruth), options.gap_limit_ns, summary);
   });
   return summary;

@@ -16,6 +16,7 @@
 #include <string>
 
 #include "core/camera.h"
+#include "core/progress.h"
 #include "session/import/import_common.h"
 #include "session/import/tum.h"
 
@@ -30,6 +31,7 @@ struct TumImportOptions {
   /// Depth PNG values per metre (TUM: 5000); within kDepthUnitsPerMetreRange.
   double depth_units_per_metre = kTumDepthUnitsPerMetre;
   std::string software_version;
+  ProgressSink* progress = nullptr;  ///< frames (bodies) written / total; not owned, may be null
   void check() const;
 };
 
