@@ -79,7 +79,7 @@ int RunDemo(int argc, char** argv) {
                                                pipeline::MakeScoreStage(),
                                                pipeline::MakeContactSheetStage()};
   const pipeline::DemoResult result = pipeline::RunDemo(options, stages, scenario.options.frame_count, scenario.options.name,
-                                                        std::vector<std::string>(argv, argv + argc));
+                                                        CommandLine(argc, argv));
   if (json) std::printf("%s\n", result.summary.dump().c_str());
   else PrintHuman(result);
   return 0;

@@ -64,7 +64,7 @@ int RunLabel(int argc, char** argv) {
   request.rig_file = rig_file;
   request.objects_file = objects_file;
   request.out_dir = out_dir.empty() ? fs::path(session_dir) / "labels" : fs::path(out_dir);
-  request.command.assign(argv, argv + argc);
+  request.command = CommandLine(argc, argv);
   options.output.write_masks = !no_masks;
   options.output.write_depth = !no_depth;
   options.output.depth_compression = DepthCompressionFromString(depth_compression);

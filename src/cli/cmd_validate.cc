@@ -65,7 +65,7 @@ int RunValidate(int argc, char** argv) {
   request.session_dir = session_dir;
   request.labels_dir = options.labels_dir;
   request.objects_file = objects_file;
-  request.command.assign(argv, argv + argc);
+  request.command = CommandLine(argc, argv);
   options.masks_dir = masks_dir;
   options.mask_values = mask_values == "object" ? MaskValues::kObjectId : MaskValues::kInstanceId;
   options.crops = crops == "renderer" ? CropBackend::kRenderer : CropBackend::kSurface;

@@ -20,4 +20,10 @@ const std::vector<Command>& AllCommands() {
   return commands;
 }
 
+std::vector<std::string> CommandLine(int argc, char** argv) {
+  std::vector<std::string> command = {"mocaplabel"};
+  command.insert(command.end(), argv, argv + argc);
+  return command;
+}
+
 }  // namespace mocap::cli

@@ -1,5 +1,8 @@
 #pragma once
 // The entry point of each subcommand; each is defined in its cmd_<name>.cc.
+#include <string>
+#include <vector>
+
 namespace mocap::cli {
 
 int RunVersion(int argc, char** argv);
@@ -13,5 +16,9 @@ int RunDevices(int argc, char** argv);
 int RunValidate(int argc, char** argv);
 int RunDemo(int argc, char** argv);
 int RunCapture(int argc, char** argv);
+
+/// "mocaplabel <subcommand> <arguments...>" as a user typed it (argv[0] is the subcommand's name), for
+/// the run.json of the runs a command writes.
+std::vector<std::string> CommandLine(int argc, char** argv);
 
 }  // namespace mocap::cli
