@@ -1,0 +1,16 @@
+# src/sim and capture/ include nothing of src/label, src/validate or src/pipeline (DESIGN.md "Layout");
+# the link graph is checked at configure time (cmake/MocapLayering.cmake), the includes here.
+file(GLOB_RECURSE sources "${ROOT}/src/sim/*.h" "${ROOT}/src/sim/*.cc" "${ROOT}/capture/*.h" "${ROOT}/capture/*.cc")
+set(violations "")
+foreach(file IN LISTS sources)
+  file(STRINGS "${file}" lines REGEX "^#include \"(label|validate|pipeline)/")
+  foreach(line IN LISTS lines)
+    list(APPEND violations "${file}: ${line}")
+  endforeach()
+endforeach()
+if(violations)
+  string(REPLACE ";" "\n" text "${violations}")
+  message(FATAL_ERROR "src/sim and capture/ must not include label, validate or pipeline headers:\n${text}")
+endif()
+list(LENGTH sources count)
+message(STATUS "layering: ${count} files of src/sim and capture/ include no upper-layer header")
