@@ -5,6 +5,7 @@
 #include "core/check.h"
 #include "label/label_png.h"
 #include "pipeline/json_read.h"
+#include "pipeline/yaml_write.h"
 #include "session/records.h"
 
 namespace mocap::pipeline {
@@ -76,13 +77,6 @@ void WriteBopMasks(const LabelRunLayout& layout, const LabelledFrame& frame) {
       WriteLabelPng(layout.BopMaskPng(frame.camera, "mask_visib_depth", frame.index, instance),
                     FullMaskImage(m.visible_measured, m.rect, w, h));
   }
-}
-
-void WriteText(const fs::path& file, const std::string& text) {
-  std::ofstream out(file, std::ios::binary | std::ios::trunc);
-  out << text;
-  out.close();
-  if (!out) throw InputError(file.string(), "could not write (disk full or not writable?)");
 }
 
 }  // namespace
@@ -199,9 +193,9 @@ void LabelRunWriter::Write(const LabelledFrame& frame) {
 void LabelRunWriter::Finish(const json& manifest) {
   std::string text;
   for (const auto& [key, lines] : lines_) text += lines;
-  WriteText(layout_.labels_jsonl(), text);
+  WriteTextAtomically(layout_.labels_jsonl(), text);
   // The manifest last: its presence marks a finished run.
-  WriteText(layout_.manifest_json(), manifest.dump(2) + "\n");
+  WriteTextAtomically(layout_.manifest_json(), manifest.dump(2) + "\n");
 }
 
 LabelRun LabelRun::Read(const fs::path& dir) {

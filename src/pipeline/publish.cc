@@ -49,8 +49,12 @@ void PartialOutput::Publish() {
   MOCAP_CHECK(fs::exists(partial_ / marker_), kind_, " output published without its ", marker_);
   const std::string from = fs::absolute(partial_).lexically_normal().string();
   const std::string to = fs::absolute(out_).lexically_normal().string();
-  for (const auto& entry : fs::recursive_directory_iterator(partial_))
-    if (entry.is_regular_file() && IsRunFile(entry.path())) RelocateJsonPaths(entry.path(), from, to);
+  // Run files sit at the top or one folder down (the demo's labels/, validation/): the walk stops
+  // there rather than visiting every frame file of a long run.
+  for (auto it = fs::recursive_directory_iterator(partial_); it != fs::recursive_directory_iterator(); ++it) {
+    if (it.depth() >= 1) it.disable_recursion_pending();
+    if (it->is_regular_file() && IsRunFile(it->path())) RelocateJsonPaths(it->path(), from, to);
+  }
   std::error_code error;
   fs::remove_all(out_, error);
   fs::rename(partial_, out_, error);

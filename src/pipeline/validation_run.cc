@@ -4,6 +4,7 @@
 
 #include "core/check.h"
 #include "pipeline/json_read.h"
+#include "pipeline/yaml_write.h"
 #include "validate/report_html.h"
 
 namespace mocap::pipeline {
@@ -15,13 +16,6 @@ nlohmann::json Vec(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
 
 nlohmann::json StatJson(const Stat& s) {
   return {{"count", s.count}, {"median", s.median}, {"p95", s.p95}, {"std", s.std}, {"max", s.max}};
-}
-
-void WriteText(const fs::path& file, const std::string& text) {
-  std::ofstream out(file);
-  out << text;
-  out.close();
-  if (!out) throw InputError(file.string(), "could not write (disk full or not writable?)");
 }
 
 std::string_view ToString(MaskValues values) { return values == MaskValues::kObjectId ? "object" : "instance"; }
@@ -134,10 +128,10 @@ void WriteValidationRun(const SessionValidation& validation, const SessionCheckO
   const ValidationRunLayout layout{dir};
   std::string jsonl;
   for (const RecordCheck& r : validation.records) jsonl += ToJson(r).dump() + "\n";
-  WriteText(layout.records_jsonl(), jsonl);
-  WriteText(layout.report_html(), ValidationReportHtml(validation, options.validate.verdict, report_dir));
+  WriteTextAtomically(layout.records_jsonl(), jsonl);
+  WriteTextAtomically(layout.report_html(), ValidationReportHtml(validation, options.validate.verdict, report_dir));
   // The summary last: its presence marks a whole output.
-  WriteText(layout.summary_json(), ValidationSummaryJson(validation.summary, options, session_dir).dump(2) + "\n");
+  WriteTextAtomically(layout.summary_json(), ValidationSummaryJson(validation.summary, options, session_dir).dump(2) + "\n");
 }
 
 LabelRunView LabelRunViewOf(const LabelRun& run, int64_t frame_begin, int64_t frame_end) {
