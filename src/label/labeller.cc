@@ -91,6 +91,22 @@ struct StageClock {
   }
 };
 
+/// Loads one image of a frame; an undecodable file gives an empty image and `flag` with the reason on
+/// every record of the frame, unless the options ask to stop.
+template <typename Image, typename Load>
+Image LoadOrFlag(Load load, const char* flag, const LabelOptions& options, std::vector<InstanceResult>& results) {
+  try {
+    return load();
+  } catch (const InputError& e) {
+    if (options.stop_on_unreadable_image) throw;
+    for (InstanceResult& r : results) {
+      r.pose.flags.emplace_back(flag);
+      r.pose.reason += (r.pose.reason.empty() ? "" : "; ") + std::string(e.what());
+    }
+    return Image();
+  }
+}
+
 /// Labels one frame with a worker's renderer, adding its time per stage to worker.seconds.
 void LabelFrame(const SessionReader& session, const std::vector<LabelObject>& objects, Worker& worker, CameraJob& job,
                 int64_t index, const LabelOptions& options, LabelSink& sink) {
@@ -112,10 +128,15 @@ void LabelFrame(const SessionReader& session, const std::vector<LabelObject>& ob
   clock.Lap(worker, &LabelStageSeconds::labels);  // the pose chain's lookups
   worker.renderer.Render(chain.camera(), items, worker.render);
   clock.Lap(worker, &LabelStageSeconds::render);
-  const bool use_depth = entry.depth_present && job.depth_registered;
-  const DepthImage depth = use_depth ? session.LoadDepth(job.camera, index) : DepthImage();
+  const DepthImage depth = entry.depth_present && job.depth_registered
+                               ? LoadOrFlag<DepthImage>([&] { return session.LoadDepth(job.camera, index); },
+                                                        "unreadable_depth", options, results)
+                               : DepthImage();
+  const bool use_depth = !depth.data.empty();
   const bool overlay = options.output.write_overlay && entry.color_present;
-  const cv::Mat color = overlay ? session.LoadColor(job.camera, index) : cv::Mat();
+  const cv::Mat color = overlay ? LoadOrFlag<cv::Mat>([&] { return session.LoadColor(job.camera, index); },
+                                                      "unreadable_color", options, results)
+                                : cv::Mat();
   clock.Lap(worker, &LabelStageSeconds::read_depth);
   const std::vector<ObjectLabels> labels =
       ComputeObjectLabels(worker.render, chain.camera(), use_depth ? &depth : nullptr, options.visibility);
@@ -249,6 +270,10 @@ LabelSummary LabelSession(const SessionReader& session, const std::vector<LabelO
   std::vector<std::string> cameras = options.cameras;
   if (cameras.empty())
     for (const CameraStreamInfo& c : session.manifest().cameras) cameras.push_back(c.name);
+  if (cameras.empty())
+    throw InputError(session.dir().string(),
+                     "the session has no camera stream, so there is nothing to label (a tracker-only recording or "
+                     "import: Motive, PLUS and trajectory files carry poses, not images)");
   std::vector<CameraJob> jobs;
   for (const std::string& camera : cameras) {
     CameraJob job{camera, std::make_unique<PoseChain>(session, camera, objects, rig, options.chain), false, 0, 0, {}};

@@ -35,6 +35,10 @@ struct LabelOptions {
   RendererOptions renderer{.back_face_culling = BackFaceCulling::kAuto};
   RenderContextOptions context;
   ProgressSink* progress = nullptr;  ///< frames done / total (core/progress.h); not owned, may be null
+  /// A frame whose depth or colour file cannot be decoded (a corrupt PNG) is labelled without it and its
+  /// records are flagged `unreadable_depth` / `unreadable_color` with the decoder's message; set this to
+  /// stop the run with that error instead.
+  bool stop_on_unreadable_image = false;
   void check() const;
 };
 

@@ -7,7 +7,9 @@
 namespace mocap {
 namespace {
 
-constexpr const char* kCameraNode = "camera";
+// Graph nodes are namespaced by kind so that user-chosen names cannot collide: a TUM import's camera body
+// is called "camera", a Motive body may be called "tracker".
+std::string BodyNode(const std::string& body) { return "body:" + body; }
 
 std::string FlagOf(const FrameLookup& lookup) {
   switch (lookup.failure) {
@@ -30,15 +32,15 @@ void PoseChainOptions::check() const {
 std::string PoseChain::WorldNode(const SessionReader& session, const std::string& tracker) const {
   const TrackerStreamInfo* info = session.manifest().FindTracker(tracker);
   MOCAP_CHECK(info != nullptr, "tracker '", tracker, "' not in the manifest");
-  if (info->frame == "camera:" + camera_name_) return kCameraNode;
-  return info->frame;  // "tracker", or another camera's frame (not linked to this one)
+  if (info->frame == CameraNode()) return CameraNode();
+  return "frame:" + info->frame;  // the tracker's frame, or another camera's frame (not linked to this one)
 }
 
 void PoseChain::AddBody(const SessionReader& session, const std::string& body) {
   if (std::find(added_bodies_.begin(), added_bodies_.end(), body) != added_bodies_.end()) return;
   const auto tracker = session.TrackerOfBody(body);
   MOCAP_CHECK(tracker.has_value(), "body '", body, "' has no tracker");
-  graph_.AddStream(WorldNode(session, *tracker), body, session.PoseSamples(*tracker, body));
+  graph_.AddStream(WorldNode(session, *tracker), BodyNode(body), session.PoseSamples(*tracker, body));
   added_bodies_.push_back(body);
 }
 
@@ -55,7 +57,7 @@ PoseChain::PoseChain(const SessionReader& session, const std::string& camera, co
     if (!session.TrackerOfBody(body))
       throw InputError(session.dir().string(), Str("camera body '", body, "' is reported by no tracker in the session"));
     AddBody(session, body);
-    graph_.AddFixed(body, kCameraNode,
+    graph_.AddFixed(BodyNode(body), CameraNode(),
                     rig_camera && rig_camera->T_body_camera ? *rig_camera->T_body_camera : info->T_body_camera);
   }
   for (const LabelObject& object : objects) {
@@ -69,7 +71,7 @@ PoseChain::PoseChain(const SessionReader& session, const std::string& camera, co
       }
       unreported_.emplace_back();
       AddBody(session, mount.body);
-      graph_.AddFixed(mount.body, node, mount.T_body_mesh);
+      graph_.AddFixed(BodyNode(mount.body), node, mount.T_body_mesh);
     }
   }
 }
@@ -83,7 +85,7 @@ InstancePose PoseChain::Lookup(size_t index, int64_t frame_stamp_ns) const {
     return out;
   }
   const int64_t t = frame_stamp_ns + latency_ns_;
-  const FrameLookup at = graph_.Lookup(kCameraNode, mesh_nodes_[index], t);
+  const FrameLookup at = graph_.Lookup(CameraNode(), mesh_nodes_[index], t);
   if (!at.ok()) {
     out.flags = {FlagOf(at)};
     out.reason = at.reason;
@@ -92,8 +94,8 @@ InstancePose PoseChain::Lookup(size_t index, int64_t frame_stamp_ns) const {
   out.T_camera_mesh = at.T_a_b;
   out.interp_gap_ms = static_cast<double>(at.max_gap_ns) * 1e-6;
   const int64_t w = options_.speed_half_window_ns;
-  const FrameLookup before = graph_.Lookup(kCameraNode, mesh_nodes_[index], t - w);
-  const FrameLookup after = graph_.Lookup(kCameraNode, mesh_nodes_[index], t + w);
+  const FrameLookup before = graph_.Lookup(CameraNode(), mesh_nodes_[index], t - w);
+  const FrameLookup after = graph_.Lookup(CameraNode(), mesh_nodes_[index], t + w);
   if (before.ok() && after.ok()) {
     const double dt_s = 2.0 * static_cast<double>(w) * 1e-9;
     out.speed_m_per_s = TranslationDistanceM(*before.T_a_b, *after.T_a_b) / dt_s;

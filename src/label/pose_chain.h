@@ -35,7 +35,7 @@ struct InstancePose {
   std::optional<Rigid3d> T_camera_mesh;
   /// Why there is no pose or why it is doubtful: missing_body, out_of_volume, gap, no_pose, fast_motion.
   std::vector<std::string> flags;
-  std::string reason;           ///< one line when T_camera_mesh is empty
+  std::string reason;           ///< one line when T_camera_mesh is empty, or when a flag needs explaining
   double interp_gap_ms = 0;     ///< longest tracker gap bridged by interpolation along the chain
   double speed_m_per_s = -1;    ///< relative to the camera; -1 when it could not be measured
   double speed_deg_per_s = -1;
@@ -55,6 +55,7 @@ class PoseChain {
 
  private:
   std::string WorldNode(const SessionReader& session, const std::string& tracker) const;
+  std::string CameraNode() const { return "camera:" + camera_name_; }
   void AddBody(const SessionReader& session, const std::string& body);
 
   std::string camera_name_;

@@ -26,7 +26,7 @@ const Eigen::Vector3d kMarker_mesh(0.03, -0.02, 0.0);
 LabelObject MarkerObject(const std::filesystem::path& dir, const testing::SyntheticRig& rig) {
   testing::WriteMarkerSquareObj(dir / "marker.obj", kMarker_mesh, 1.0);
   return {.id = 7, .name = "marker", .object_class = "marker", .mesh_path = dir / "marker.obj",
-          .unit_scale_to_m = 1.0, .mounts = {{"objbody", rig.T_objbody_mesh}}};
+          .unit_scale_to_m = 1.0, .mounts = {{rig.objbody, rig.T_objbody_mesh}}};
 }
 
 LabelRunOptions Options(const std::filesystem::path& out) {
@@ -188,6 +188,68 @@ TEST(Labeller, LatencyShiftsTheTrackerTime) {
   const LabelSummary summary =
       LabelSession(SessionReader::Open(dir / "S"), {MarkerObject(dir, rig)}, latency, Options(dir / "L"));
   EXPECT_EQ(summary.records_with_pose, 3);
+  std::filesystem::remove_all(dir);
+}
+
+TEST(Labeller, BodyNamesAreTheUsersText) {
+  // A TUM import names its camera body "camera", and a tracker body may be called "tracker": body names
+  // must not collide with the labeller's own frame names (issue: "frame 'camera' linked to itself").
+  const auto dir = FreshDir("body_names");
+  testing::SyntheticRig rig;
+  rig.cambody = "camera";
+  rig.objbody = "tracker";
+  rig.WriteSession(dir / "S", 2);
+  const LabelSummary summary =
+      LabelSession(SessionReader::Open(dir / "S"), {MarkerObject(dir, rig)}, LabelRig{}, Options(dir / "L"));
+  EXPECT_EQ(summary.records_with_pose, 2);
+  const auto lines = ReadJsonLines(dir / "L" / "labels.jsonl");
+  ASSERT_EQ(lines.size(), 2u);
+  const Eigen::Vector3d t_m(lines[0]["t_m"][0], lines[0]["t_m"][1], lines[0]["t_m"][2]);
+  EXPECT_LT((t_m - rig.T_camera_mesh.translation()).norm(), 1e-9);
+  std::filesystem::remove_all(dir);
+}
+
+TEST(Labeller, ACorruptDepthFileFlagsItsFrameInsteadOfStoppingTheRun) {
+  const auto dir = FreshDir("corrupt_depth");
+  const testing::SyntheticRig rig;
+  const cv::Mat depth(testing::TestCamera().height, testing::TestCamera().width, CV_16UC1, cv::Scalar(790));
+  rig.WriteSession(dir / "S", 3, -1, -1, depth);
+  const SessionReader session = SessionReader::Open(dir / "S");
+  const std::filesystem::path depth_file =
+      dir / "S" / "cameras" / "cam" / session.frame("cam", 1).record.depth_file;
+  const auto size = std::filesystem::file_size(depth_file);
+  std::filesystem::resize_file(depth_file, size / 2);  // a PNG cut in half
+  const LabelSummary summary = LabelSession(session, {MarkerObject(dir, rig)}, LabelRig{}, Options(dir / "L"));
+  EXPECT_EQ(summary.frames, 3);
+  EXPECT_EQ(summary.flag_counts.at("unreadable_depth"), 1);
+  const auto lines = ReadJsonLines(dir / "L" / "labels.jsonl");
+  ASSERT_EQ(lines.size(), 3u);
+  for (const auto& line : lines) {
+    const bool corrupt = line["index"] == 1;
+    EXPECT_EQ(line["flags"].dump().find("unreadable_depth") != std::string::npos, corrupt) << line.dump();
+    if (corrupt) EXPECT_NE(line["reason"].get<std::string>().find(depth_file.filename().string()), std::string::npos);
+    EXPECT_TRUE(line.contains("rvec")) << "the pose does not depend on the depth file";
+  }
+  LabelRunOptions strict = Options(dir / "L2");
+  strict.stop_on_unreadable_image = true;
+  EXPECT_THROW(LabelSession(session, {MarkerObject(dir, rig)}, LabelRig{}, strict), InputError);
+  EXPECT_FALSE(std::filesystem::exists(dir / "L2"));
+  std::filesystem::remove_all(dir);
+}
+
+TEST(Labeller, ASessionWithoutACameraSaysSo) {
+  const auto dir = FreshDir("no_camera");
+  testing::SyntheticRig rig;
+  rig.with_camera = false;
+  rig.WriteSession(dir / "S", 2);
+  try {
+    LabelSession(SessionReader::Open(dir / "S"), {MarkerObject(dir, rig)}, LabelRig{}, Options(dir / "L"));
+    ADD_FAILURE() << "a session without a camera was labelled";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("no camera stream"), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(std::filesystem::exists(dir / "L"));
+  EXPECT_FALSE(std::filesystem::exists(dir / "L.partial"));
   std::filesystem::remove_all(dir);
 }
 

@@ -38,6 +38,9 @@ struct SyntheticRig {
   Rigid3d T_objbody_mesh = Rigid3d::FromRvec({-0.2, 0.1, 0.4}, {0.01, -0.03, 0.02});
   /// Placed so the mesh origin sits 0.8 m in front of the camera.
   Rigid3d T_camera_mesh = Rigid3d::FromRvec({0.3, -0.2, 0.25}, {0.02, -0.01, 0.8});
+  /// Tracker body names: user-chosen text (a TUM import calls its camera body "camera").
+  std::string cambody = "cambody", objbody = "objbody";
+  bool with_camera = true;  ///< false: a tracker-only session (a Motive or PLUS import)
 
   Rigid3d T_tracker_objbody() const {
     return T_tracker_cambody * T_cambody_camera * T_camera_mesh * T_objbody_mesh.inverse();
@@ -54,20 +57,20 @@ struct SyntheticRig {
     cam.name = "cam";
     cam.model = "sim";
     cam.color_camera = cam.depth_camera = TestCamera();
-    cam.camera_body = "cambody";
+    cam.camera_body = cambody;
     cam.T_body_camera = T_cambody_camera;
-    manifest.cameras.push_back(cam);
-    manifest.trackers.push_back({"ndi", "sim", "", "tracker", {"cambody", "objbody"}});
+    if (with_camera) manifest.cameras.push_back(cam);
+    manifest.trackers.push_back({"ndi", "sim", "", "tracker", {cambody, objbody}});
     auto writer = SessionWriter::Create(dir, manifest);
     const int64_t end_ns = frames * 33 * kMs + 50 * kMs;
     for (int64_t t = 0; t <= end_ns; t += 10 * kMs) {
-      writer->WriteTrackerSample("ndi", {"cambody", PoseStatus::kValid, t / (10 * kMs), 0, t, T_tracker_cambody, 0, 0});
+      writer->WriteTrackerSample("ndi", {cambody, PoseStatus::kValid, t / (10 * kMs), 0, t, T_tracker_cambody, 0, 0});
       const bool lost = t >= dropout_begin_ns && t < dropout_end_ns;
       writer->WriteTrackerSample(
-          "ndi", {"objbody", lost ? PoseStatus::kMissing : PoseStatus::kValid, t / (10 * kMs), 0, t, T_tracker_objbody(), 0, 0});
+          "ndi", {objbody, lost ? PoseStatus::kMissing : PoseStatus::kValid, t / (10 * kMs), 0, t, T_tracker_objbody(), 0, 0});
     }
     const cv::Mat color(TestCamera().height, TestCamera().width, CV_8UC3, cv::Scalar(40, 40, 40));
-    for (int i = 0; i < frames; ++i) {
+    for (int i = 0; with_camera && i < frames; ++i) {
       CameraFrameRecord record;
       record.frame = i;
       record.stamp_ns = 20 * kMs + i * 33 * kMs;
