@@ -91,6 +91,7 @@ json ToJson(const LabelRecord& r) {
     return j;
   }
   AddPoseFields(j, r);
+  if (!r.reason.empty()) j["reason"] = r.reason;  // a posed record's doubt, e.g. its depth file unreadable
   return j;
 }
 
@@ -110,7 +111,7 @@ LabelRecord LabelRecordFromJson(const json& j, const std::string& where) {
   r.body = f.String("body");
   r.flags = f.Strings("flags");
   if (f.Has("rvec")) ReadPoseFields(f, r);
-  else r.reason = f.String("reason");
+  if (!f.Has("rvec") || f.Has("reason")) r.reason = f.String("reason");
   return r;
 }
 
@@ -121,10 +122,8 @@ LabelRecord MakeLabelRecord(const LabelledFrame& frame, const InstanceResult& re
   r.source_id = frame.record.source_id;
   r.object = inst.object->id, r.name = inst.object->name, r.object_class = inst.object->object_class;
   r.instance = inst.instance_id, r.body = inst.mount->body, r.flags = result.pose.flags;
-  if (!result.pose.T_camera_mesh) {
-    r.reason = result.pose.reason;
-    return r;
-  }
+  r.reason = result.pose.reason;
+  if (!result.pose.T_camera_mesh) return r;
   const PoseFields pose = MakePoseFields(*result.pose.T_camera_mesh);
   r.has_pose = true;
   r.rvec = pose.rvec, r.t_m = pose.t_m;

@@ -1,5 +1,6 @@
 #include "pipeline/publish.h"
 
+#include <exception>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
@@ -43,6 +44,13 @@ PartialOutput::PartialOutput(fs::path out, std::string marker, std::string kind)
   fs::remove_all(partial_, error);
   fs::create_directories(partial_, error);
   if (error) throw InputError(partial_.string(), Str("cannot be created: ", error.message()));
+  exceptions_at_start_ = std::uncaught_exceptions();
+}
+
+PartialOutput::~PartialOutput() {
+  if (published_ || std::uncaught_exceptions() <= exceptions_at_start_) return;
+  std::error_code ignored;
+  fs::remove_all(partial_, ignored);
 }
 
 void PartialOutput::Publish() {
@@ -59,6 +67,7 @@ void PartialOutput::Publish() {
   fs::remove_all(out_, error);
   fs::rename(partial_, out_, error);
   if (error) throw InputError(out_.string(), Str("could not be put in place: ", error.message(), " (the output is in ", partial_.string(), ")"));
+  published_ = true;
 }
 
 void RelocateJsonPaths(const fs::path& file, const std::string& from, const std::string& to) {

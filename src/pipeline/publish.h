@@ -14,6 +14,9 @@ class PartialOutput {
   /// InputError when `out` exists and is neither empty nor an earlier output of this kind (`kind` names
   /// it in the message). Removes a .partial folder an earlier killed run left.
   PartialOutput(std::filesystem::path out, std::string marker, std::string kind);
+  /// An output abandoned by an exception (bad input found mid-run) is removed: only a killed run leaves
+  /// its .partial folder behind.
+  ~PartialOutput();
   PartialOutput(const PartialOutput&) = delete;
   PartialOutput& operator=(const PartialOutput&) = delete;
 
@@ -28,6 +31,8 @@ class PartialOutput {
  private:
   std::filesystem::path out_, partial_;
   std::string marker_, kind_;
+  int exceptions_at_start_ = 0;
+  bool published_ = false;
 };
 
 /// <out>.partial.

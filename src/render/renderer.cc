@@ -166,6 +166,11 @@ Renderer::Renderer(const RenderContext& context, const RendererOptions& options)
   gl_->clip_from_mesh = glGetUniformLocation(gl_->program, "clip_from_mesh");
   gl_->z_row = glGetUniformLocation(gl_->program, "z_row");
   gl_->framebuffers.resize(static_cast<size_t>(options.framebuffers));
+  GLint max_renderbuffer = 0, max_viewport[2] = {0, 0};
+  glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &max_renderbuffer);
+  glGetIntegerv(GL_MAX_VIEWPORT_DIMS, max_viewport);
+  max_canvas_px_ = std::min({max_renderbuffer, max_viewport[0], max_viewport[1]});
+  gl_renderer_ = context.info().gl_renderer;
   // Image rows map to GL window rows unflipped (conventions.h), which mirrors the winding: a face whose
   // outward normal points at the camera is clockwise in GL window coordinates. Culling is switched on
   // per draw (Render).
@@ -215,6 +220,17 @@ MeshHandle Renderer::Upload(const Mesh& mesh, BackFaceCulling culling) {
   return MeshHandle{static_cast<int>(gl_->meshes.size()) - 1};
 }
 
+// A canvas beyond the GL's limits makes an incomplete framebuffer (an internal error, formerly an abort);
+// a camera that large is an input the user can change, so it is an InputError naming the sizes.
+void Renderer::CheckCanvasFits(const PinholeCamera& camera, const CanvasIntrinsics& canvas) const {
+  if (canvas.width <= max_canvas_px_ && canvas.height <= max_canvas_px_) return;
+  throw InputError(Str("camera ", camera.width, "x", camera.height),
+                   Str("its render canvas (the image plus margins of ", options_.outside_margin_fraction,
+                       " image per side for amodal boxes) is ", canvas.width, "x", canvas.height,
+                       " px, beyond the ", max_canvas_px_, " px per side this OpenGL renders (", gl_renderer_,
+                       "); lower the margin (label --outside-margin) or the camera resolution"));
+}
+
 const RenderCanvas& Renderer::CanvasFor(const PinholeCamera& camera) {
   if (!canvas_ || !SameCamera(canvas_->camera(), camera))
     canvas_ = std::make_unique<RenderCanvas>(camera, options_.outside_margin_fraction);
@@ -239,6 +255,7 @@ void Renderer::Render(const PinholeCamera& camera, std::span<const RenderItem> i
   const RenderCanvas& canvas = CanvasFor(camera);
   const CanvasIntrinsics& c = canvas.intrinsics();
   const Eigen::Matrix4f clip_from_camera = GlClipFromCamera(c, options_.near_m, options_.far_m);
+  CheckCanvasFits(camera, c);
   for (auto& f : gl_->framebuffers)
     if (f.width != c.width || f.height != c.height) f.Allocate(c.width, c.height, GL_R32F);
 

@@ -104,8 +104,12 @@ class Renderer {
 
  private:
   struct Gl;
+  void CheckCanvasFits(const PinholeCamera& camera, const CanvasIntrinsics& canvas) const;
+
   std::unique_ptr<Gl> gl_;
   RendererOptions options_;
+  int max_canvas_px_ = 0;       ///< the GL's largest renderbuffer and viewport side
+  std::string gl_renderer_;     ///< for messages
   std::unique_ptr<RenderCanvas> canvas_;
 };
 

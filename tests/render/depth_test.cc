@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "core/check.h"
 #include "render/primitives.h"
 #include "render/renderer.h"
 
@@ -161,6 +162,32 @@ TEST(Depth, NoCullingWithTheCameraInsideAClosedMesh) {
   for (uint16_t id : all_faces.instance_ids.data) covered += id == 1;
   EXPECT_EQ(covered, 640 * 480);
   EXPECT_EQ(DifferingPixels(all_faces, automatic), 0);
+}
+
+}  // namespace
+}  // namespace mocap
+
+namespace mocap {
+namespace {
+
+TEST(Depth, ACanvasBeyondTheGlLimitIsAClearError) {
+  // A 6000x4000 camera with BOP's 3x canvas once aborted on an incomplete framebuffer. 40000 px per side
+  // is beyond every OpenGL's renderbuffer limit (llvmpipe: 16384, GPUs: 16384-32768), and the check comes
+  // before anything of that size is allocated.
+  const PinholeCamera huge{40000, 100, 5000.0, 5000.0, 19999.5, 49.5, {}};
+  const auto context = RenderContext::Create({.platform = EglPlatform::kSurfaceless});
+  Renderer renderer(*context);
+  const RenderItem item{renderer.Upload(MakeBoxMesh({0.2, 0.2, 0.2})), Rigid3d::FromRvec({0, 0, 0}, {0, 0, 1}), 1};
+  try {
+    renderer.Render(huge, std::span(&item, 1));
+    ADD_FAILURE() << "a canvas beyond the GL limit was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("camera 40000x100"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("--outside-margin"), std::string::npos) << e.what();
+  }
+  // The same renderer still renders a camera that fits.
+  const PinholeCamera small{64, 48, 50.0, 50.0, 31.5, 23.5, {}};
+  EXPECT_EQ(renderer.Render(small, std::span(&item, 1)).instance_ids.at(32, 24), 1);
 }
 
 }  // namespace
