@@ -118,6 +118,7 @@ nlohmann::json ValidationSummaryJson(const ValidationSummary& s, const SessionCh
                       {"seconds", s.seconds}};
   for (const char* v : {"accept", "suspect", "reject"})
     if (!j["verdicts"].contains(v)) j["verdicts"][v] = 0;
+  if (!s.nothing_checked_why.empty()) j["nothing_checked_why"] = s.nothing_checked_why;
   if (s.has_segmentation)
     j["segmentation"] = {{"iou", StatJson(s.iou)}, {"precision", StatJson(s.precision)}, {"recall", StatJson(s.recall)}};
   return j;

@@ -1,6 +1,7 @@
 // Summarising the record checks (session_check.h).
 #include <algorithm>
 #include <cmath>
+#include <map>
 
 #include "core/check.h"
 #include "validate/session_check.h"
@@ -25,6 +26,25 @@ Stat ComputeStat(std::vector<double> values) {
   s.std = std::sqrt(var / values.size());
   return s;
 }
+
+namespace {
+
+/// One sentence for a run where no record could be checked: the commonest bad-input reason, with the
+/// first record's own explanation of it.
+std::string WhyNothingChecked(const std::vector<RecordCheck>& records, int64_t total_records) {
+  if (total_records == 0) return "the label run has no records";
+  if (records.empty()) return Str("none of the ", total_records, " label records has a pose");
+  std::map<VerdictReason, int64_t> counts;
+  for (const RecordCheck& r : records) ++counts[r.check.reason_code];
+  const auto commonest = std::max_element(counts.begin(), counts.end(),
+                                          [](const auto& a, const auto& b) { return a.second < b.second; });
+  const auto example = std::find_if(records.begin(), records.end(),
+                                    [&](const RecordCheck& r) { return r.check.reason_code == commonest->first; });
+  return Str(commonest->second, " of ", records.size(), " records with a pose had unusable input (",
+             ToString(commonest->first), ": ", example->check.reason, ")");
+}
+
+}  // namespace
 
 ValidationSummary Summarise(const std::vector<RecordCheck>& records, int64_t total_records) {
   ValidationSummary s;
@@ -53,6 +73,7 @@ ValidationSummary Summarise(const std::vector<RecordCheck>& records, int64_t tot
     }
   }
   s.segicp_success_rate = s.records_checked > 0 ? static_cast<double>(successes) / s.records_checked : 0.0;
+  if (s.records_checked == 0) s.nothing_checked_why = WhyNothingChecked(records, total_records);
   s.position_error_mm = ComputeStat(position);
   s.rotation_axis_error_deg = ComputeStat(axis);
   s.rotation_angle_error_deg = ComputeStat(angle);

@@ -88,8 +88,11 @@ std::string Timeline(const std::vector<const RecordCheck*>& track, double limit_
 std::string SummaryTable(const ValidationSummary& s) {
   std::ostringstream o;
   o << "<table><tr><th>records</th><td>" << s.records << " (" << s.records_without_pose << " without a pose, "
-    << s.records_checked << " checked)</td></tr><tr><th>SegICP success rate</th><td>" << Num(100 * s.segicp_success_rate, 1)
-    << " %</td></tr>";
+    << s.records_checked << " checked)</td></tr>";
+  if (!s.nothing_checked_why.empty())
+    o << "<tr><th>nothing checked</th><td>" << Escape(s.nothing_checked_why) << "</td></tr>";
+  else
+    o << "<tr><th>SegICP success rate</th><td>" << Num(100 * s.segicp_success_rate, 1) << " %</td></tr>";
   for (const auto& [v, n] : s.verdicts) o << "<tr><th>" << v << "</th><td>" << n << "</td></tr>";
   for (const auto& [r, n] : s.reasons) o << "<tr><th>reason " << Escape(r) << "</th><td>" << n << "</td></tr>";
   const auto stat = [&](const char* name, const Stat& st, int digits) {

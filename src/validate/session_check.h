@@ -101,6 +101,9 @@ struct ValidationSummary {
   int64_t records_checked = 0;       ///< with a pose and usable input (an estimate was attempted)
   /// Paper's success criterion over records_checked (0 when none).
   double segicp_success_rate = 0.0;
+  /// When records_checked is 0: why nothing was checked, one sentence naming the commonest reason (the
+  /// rates and medians are then not measurements). Empty otherwise.
+  std::string nothing_checked_why;
   std::map<std::string, int64_t> verdicts;  ///< accept / suspect / reject over records with a pose
   std::map<std::string, int64_t> reasons;   ///< reason codes over records with a pose
   Stat position_error_mm, rotation_axis_error_deg, rotation_angle_error_deg;  ///< over estimated records

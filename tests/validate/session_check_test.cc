@@ -169,5 +169,29 @@ TEST_F(SessionCheckTest, UserMasksGiveSegmentationScoresAndBadInputGivesReasons)
   EXPECT_THROW(ValidateSession(*session_, scene_->objects, options, scene_->labels), InputError);
 }
 
+TEST_F(SessionCheckTest, ASummaryWithNothingCheckedSaysWhy) {
+  // --masks of the wrong size everywhere: no record can be checked. The summary must say so and why,
+  // not report "SegICP success 0.0 %, position error median 0.00 mm" as if they were measurements.
+  const fs::path masks = *dir_ / "small_masks";
+  fs::create_directories(masks);
+  for (int64_t index = 0; index < 16; ++index) {
+    char stem[16];
+    std::snprintf(stem, sizeof stem, "%06lld", static_cast<long long>(index));
+    cv::imwrite((masks / (std::string(stem) + ".png")).string(), cv::Mat(240, 320, CV_16UC1, cv::Scalar(1)));
+  }
+  auto options = Options(scene_->labels);
+  options.masks_dir = masks;
+  const SessionValidation v = ValidateSession(*session_, scene_->objects, options, *dir_ / "V0");
+  EXPECT_EQ(v.summary.records_checked, 0);
+  EXPECT_NE(v.summary.nothing_checked_why.find("had unusable input"), std::string::npos) << v.summary.nothing_checked_why;
+  std::ifstream summary_file(*dir_ / "V0" / "validation.json");
+  const auto summary = nlohmann::json::parse(summary_file);
+  EXPECT_EQ(summary["nothing_checked_why"], v.summary.nothing_checked_why);
+  // And a run where something was checked carries no such sentence.
+  const SessionValidation ok = ValidateSession(*session_, scene_->objects, Options(scene_->labels), *dir_ / "V1");
+  EXPECT_GT(ok.summary.records_checked, 0);
+  EXPECT_TRUE(ok.summary.nothing_checked_why.empty());
+}
+
 }  // namespace
 }  // namespace mocap
