@@ -40,6 +40,7 @@ nlohmann::json ToJson(const CameraStreamInfo& camera) {
           {"color_camera", ToJson(camera.color_camera)},
           {"depth_camera", ToJson(camera.depth_camera)},
           {"depth_registered_to_color", camera.depth_registered_to_color},
+          {"frames_subset", camera.frames_subset},
           {"T_color_depth", ToJson(camera.T_color_depth)},
           {"depth_unit_m", camera.depth_unit_m},
           {"camera_body", camera.camera_body},
@@ -54,6 +55,7 @@ CameraStreamInfo CameraFromJson(const nlohmann::json& json, const std::string& w
   camera.color_camera = PinholeFromJson(Field(json, "color_camera", where), where + ".color_camera");
   camera.depth_camera = PinholeFromJson(Field(json, "depth_camera", where), where + ".depth_camera");
   camera.depth_registered_to_color = Bool(json, "depth_registered_to_color", where);
+  camera.frames_subset = json.contains("frames_subset") && Bool(json, "frames_subset", where);
   camera.T_color_depth = RigidFromJson(Field(json, "T_color_depth", where), where + ".T_color_depth");
   camera.depth_unit_m = Number(json, "depth_unit_m", where);
   camera.camera_body = String(json, "camera_body", where);
@@ -191,6 +193,7 @@ nlohmann::json ToJson(const SessionManifest& manifest) {
   for (const auto& camera : manifest.cameras) json["cameras"].push_back(ToJson(camera));
   for (const auto& tracker : manifest.trackers) json["trackers"].push_back(ToJson(tracker));
   for (const auto& [device, fit] : manifest.clock_fits) json["clock_fits"][device] = ToJson(fit);
+  if (!manifest.stream_records.empty()) json["stream_records"] = manifest.stream_records;
   return json;
 }
 
@@ -206,6 +209,15 @@ SessionManifest ManifestFromJson(const nlohmann::json& json, const std::string& 
   manifest.created_utc = String(json, "created_utc", where);
   manifest.source = String(json, "source", where);
   manifest.complete = Bool(json, "complete", where);
+  if (json.contains("stream_records")) {
+    const auto& counts = json["stream_records"];
+    if (!counts.is_object()) throw InputError(where, "field 'stream_records' should be an object of record counts");
+    for (const auto& [file, count] : counts.items()) {
+      if (!count.is_number_integer() || count.get<int64_t>() < 0)
+        throw InputError(where, Str("field 'stream_records'.'", file, "' should be a record count (an integer >= 0)"));
+      manifest.stream_records[file] = count.get<int64_t>();
+    }
+  }
   const auto& cameras = Field(json, "cameras", where);
   const auto& trackers = Field(json, "trackers", where);
   const auto& fits = Field(json, "clock_fits", where);
@@ -241,6 +253,8 @@ SessionManifest LoadManifest(const fs::path& session_dir) {
     json = nlohmann::json::parse(in);
   } catch (const nlohmann::json::parse_error& e) {
     throw InputError(Str(path.string(), ":byte ", e.byte), Str("not valid JSON: ", e.what()));
+  } catch (const nlohmann::json::exception& e) {  // a number beyond double's range (out_of_range.406), found by tests/fuzz
+    throw InputError(path.string(), Str("not valid JSON: ", e.what()));
   }
   return ManifestFromJson(json, path.string());
 }

@@ -27,6 +27,9 @@ struct CameraStreamInfo {
   double depth_unit_m = 0.001; ///< metres per unit of a 16-bit depth PNG (Kinect mm 0.001, TUM 1/5000)
   std::string camera_body;     ///< tracker body carrying this camera ("" if none)
   Rigid3d T_body_camera;       ///< mount: colour optical frame into the body frame
+  /// The stream holds a chosen subset of the recording's frames (a BOP test subset ships every few
+  /// images): gaps in frame numbers are by design, not drops, and there is no frame rate to speak of.
+  bool frames_subset = false;
 };
 
 /// One tracker (an NDI system, a Motive take, a ground-truth trajectory, known BOP object poses).
@@ -48,6 +51,10 @@ struct SessionManifest {
   std::map<std::string, ClockFit> clock_fits;  ///< per device (keyed by stream name or serial)
   nlohmann::json extra = nlohmann::json::object();  ///< importer/rig specifics, kept verbatim
   bool complete = false;  ///< set by SessionWriter::Close(); false after a crash
+  /// Set by SessionWriter::Close(): the records in each stream file (by path relative to the session), so
+  /// that a reader tells a file cut or damaged after recording from a complete one. Empty in sessions
+  /// written before this field existed.
+  std::map<std::string, int64_t> stream_records;
 
   /// Throws InputError (naming the field) on empty or duplicate stream names, names that are not
   /// plain file names, non-positive depth_unit_m, invalid intrinsics, unknown tracker frames.

@@ -11,14 +11,31 @@ namespace fs = std::filesystem;
 
 namespace {
 
+/// A session closed cleanly has no torn tail and as many records as its manifest counted at closing: a
+/// file with fewer was cut or damaged after recording, and reading on would lose poses silently.
+void CheckStreamIsWhole(const SessionManifest& manifest, const fs::path& path, const fs::path& relative,
+                        const RecordFileContents& contents, const SessionReaderOptions& options) {
+  if (!manifest.complete || options.skip_corrupt_records) return;
+  const auto expected = manifest.stream_records.find(relative.generic_string());
+  const auto read = static_cast<int64_t>(contents.records.size());
+  if (expected != manifest.stream_records.end() && read < expected->second)
+    throw InputError(path.string(), Str("holds ", read, " whole records, but the session was closed with ", expected->second,
+                                        ": the file was cut or damaged after recording (restore it from a copy)"));
+  if (contents.torn_tail)
+    throw InputError(path.string(), Str("its last line (after record ", read, ") is cut short, but the session was "
+                                        "closed cleanly: the file was damaged after recording (restore it from a copy)"));
+}
+
 template <typename Record, typename Parse>
-std::vector<Record> ReadStream(const fs::path& dir, const fs::path& relative, const SessionReaderOptions& options,
-                               Parse parse, std::vector<StreamDiagnostics>* diagnostics) {
+std::vector<Record> ReadStream(const fs::path& dir, const SessionManifest& manifest, const fs::path& relative,
+                               const SessionReaderOptions& options, Parse parse,
+                               std::vector<StreamDiagnostics>* diagnostics) {
   const fs::path path = dir / relative;
   const RecordFileContents contents = ReadRecordFile(path, options.skip_corrupt_records);
   std::vector<Record> records;
   records.reserve(contents.records.size());
   for (const auto& line : contents.records) records.push_back(parse(line.json, Str(path.string(), ":", line.line)));
+  CheckStreamIsWhole(manifest, path, relative, contents, options);
   diagnostics->push_back({relative.string(), static_cast<int64_t>(records.size()), contents.torn_tail,
                           contents.corrupt_lines});
   return records;
@@ -33,7 +50,7 @@ SessionReader SessionReader::Open(const fs::path& dir, const SessionReaderOption
   reader.manifest_ = LoadManifest(dir);
   for (const auto& camera : reader.manifest_.cameras) {
     const fs::path camera_dir = dir / "cameras" / camera.name;
-    auto records = ReadStream<CameraFrameRecord>(dir, CameraStreamFile(camera.name), options,
+    auto records = ReadStream<CameraFrameRecord>(dir, reader.manifest_, CameraStreamFile(camera.name), options,
                                                  CameraFrameRecordFromJson, &reader.diagnostics_);
     CameraStream& stream = reader.cameras_[camera.name];
     stream.entries.reserve(records.size());
@@ -48,7 +65,7 @@ SessionReader SessionReader::Open(const fs::path& dir, const SessionReaderOption
   for (const auto& tracker : reader.manifest_.trackers) {
     const fs::path file = TrackerStreamFile(tracker.name);
     TrackerStream& stream = reader.trackers_[tracker.name];
-    stream.records = ReadStream<TrackerRecord>(dir, file, options, TrackerRecordFromJson, &reader.diagnostics_);
+    stream.records = ReadStream<TrackerRecord>(dir, reader.manifest_, file, options, TrackerRecordFromJson, &reader.diagnostics_);
     for (size_t i = 0; i < stream.records.size(); ++i) {
       const TrackerRecord& record = stream.records[i];
       if (std::find(tracker.bodies.begin(), tracker.bodies.end(), record.body) == tracker.bodies.end())
@@ -67,7 +84,7 @@ SessionReader SessionReader::Open(const fs::path& dir, const SessionReaderOption
       }
     }
   }
-  reader.events_ = ReadStream<EventRecord>(dir, "events.jsonl", options, EventRecordFromJson, &reader.diagnostics_);
+  reader.events_ = ReadStream<EventRecord>(dir, reader.manifest_, "events.jsonl", options, EventRecordFromJson, &reader.diagnostics_);
   return reader;
 }
 

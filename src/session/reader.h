@@ -20,7 +20,9 @@ namespace mocap {
 struct SessionReaderOptions {
   /// A line whose checksum fails in the middle of a stream is an error (InputError naming file:line)
   /// unless this is set; then it is skipped and counted in StreamDiagnostics::corrupt_lines. A bad last
-  /// line is always skipped (the torn tail a crash leaves).
+  /// line is skipped (the torn tail a crash leaves) in a session that was not closed; in one closed
+  /// cleanly, a torn tail or fewer records than the manifest's `stream_records` is an error unless this is
+  /// set (the file was cut or damaged after recording).
   bool skip_corrupt_records = false;
   void check() const {}
 };

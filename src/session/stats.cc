@@ -41,6 +41,7 @@ CameraStats CameraStatsOf(const SessionReader& reader, const CameraStreamInfo& c
                           const SessionStatsOptions& options, std::vector<std::string>* missing_files) {
   CameraStats stats;
   stats.name = camera.name;
+  stats.frames_subset = camera.frames_subset;
   const auto frames = reader.frames(camera.name);
   stats.records = static_cast<int64_t>(frames.size());
   const bool has_body = !camera.camera_body.empty() && reader.TrackerOfBody(camera.camera_body).has_value();
@@ -51,7 +52,7 @@ CameraStats CameraStatsOf(const SessionReader& reader, const CameraStreamInfo& c
     const CameraFrameRecord& record = entry.record;
     stamps.push_back(record.stamp_ns);
     if (i > 0) {
-      stats.dropped_frames += SkippedFrameNumbers(frames[i - 1].record.frame, record.frame);
+      if (!camera.frames_subset) stats.dropped_frames += SkippedFrameNumbers(frames[i - 1].record.frame, record.frame);
       stats.stamps_backwards += record.stamp_ns < frames[i - 1].record.stamp_ns;
     }
     stats.color_listed += record.has_color();
@@ -175,7 +176,8 @@ nlohmann::json ToJson(const SessionStats& stats) {
         {"color_present", camera.color_present}, {"depth_listed", camera.depth_listed},
         {"depth_present", camera.depth_present}, {"frames", camera.frames},
         {"frames_with_pose", OptionalJson(camera.frames_with_pose)}, {"pose_failures", camera.pose_failures},
-        {"dropped_frames", camera.dropped_frames}, {"stamps_backwards", camera.stamps_backwards},
+        {"dropped_frames", camera.dropped_frames}, {"frames_subset", camera.frames_subset},
+        {"stamps_backwards", camera.stamps_backwards},
         {"timing", TimingJson(camera.timing)}};
   }
   std::map<std::string, int> body_names;

@@ -47,6 +47,7 @@ struct CameraStats {
   std::optional<int64_t> frames_with_pose;
   std::map<std::string, int64_t> pose_failures;  ///< interpolation failure name -> frames
   int64_t dropped_frames = 0;  ///< device frame numbers skipped between consecutive records
+  bool frames_subset = false;  ///< the stream is a chosen subset (CameraStreamInfo): skips are not drops
   int64_t stamps_backwards = 0;  ///< records whose stamp is before their predecessor's (file order)
   StreamTiming timing;
 };

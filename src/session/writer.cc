@@ -408,6 +408,8 @@ void SessionWriter::Close() {
   impl_->threads.clear();
   impl_->ThrowIfFailed();
   impl_->SyncAll();
+  for (const auto& [name, file] : impl_->files)
+    impl_->manifest.stream_records[fs::relative(file->path(), impl_->dir).generic_string()] = file->lines_appended();
   impl_->manifest.complete = true;
   SaveManifest(impl_->dir, impl_->manifest);
 }

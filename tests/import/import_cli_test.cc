@@ -73,6 +73,13 @@ TEST(ImportCli, PlusMotiveAndBop) {
                             RealData("bop_lmo_scene2/models").string() + " --out " + (scratch.path() / "B").string() + " --json"));
   EXPECT_EQ(bop["camera_records"], 10);
   EXPECT_TRUE(std::filesystem::exists(scratch.path() / "B" / "objects.yaml"));
+  // The BOP test subset ships 10 of 59 images: the 49 it leaves out are not drops.
+  const auto info = Json(Mocaplabel("info " + (scratch.path() / "B").string() + " --json"));
+  EXPECT_EQ(info["cameras"]["bop"]["dropped_frames"], 0);
+  EXPECT_EQ(info["cameras"]["bop"]["frames_subset"], true);
+  const CommandResult text = Mocaplabel("info " + (scratch.path() / "B").string());
+  EXPECT_EQ(text.out.find("dropped"), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find("chosen subset"), std::string::npos) << text.out;
 }
 
 TEST(ImportCli, BadInputExitsWithOneLine) {

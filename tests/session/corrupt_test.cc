@@ -41,6 +41,14 @@ fs::path MakeSession(const TempDir& tmp) {
   return dir;
 }
 
+/// What a crash leaves: the manifest as written at Create (not complete, no record counts).
+void MarkIncomplete(const fs::path& dir) {
+  nlohmann::json manifest = nlohmann::json::parse(ReadAll(dir / "manifest.json"));
+  manifest["complete"] = false;
+  manifest.erase("stream_records");
+  WriteAll(dir / "manifest.json", manifest.dump());
+}
+
 template <typename F>
 std::string ErrorOf(F f) {
   try {
@@ -68,6 +76,7 @@ TEST(RecordFile, LineFramingRoundTrips) {
 TEST(RecordFile, TruncatedMidRecordDropsOnlyTheTornTail) {
   TempDir tmp;
   const fs::path dir = MakeSession(tmp);
+  MarkIncomplete(dir);
   const fs::path events = dir / "events.jsonl";
   const std::string bytes = ReadAll(events);
   const size_t ninth_end = [&] {
@@ -111,11 +120,42 @@ TEST(RecordFile, FlippedByteInTheMiddleIsAnErrorNamingTheLine) {
 TEST(RecordFile, FlippedByteInTheLastRecordIsDropped) {
   TempDir tmp;
   const fs::path dir = MakeSession(tmp);
+  MarkIncomplete(dir);
   const fs::path events = dir / "events.jsonl";
   std::string bytes = ReadAll(events);
   bytes[bytes.size() - 20] ^= 0x01;
   WriteAll(events, bytes);
   EXPECT_EQ(SessionReader::Open(dir).events().size(), 9u);
+}
+
+TEST(RecordFile, AStreamCutAfterACleanCloseIsAnError) {
+  // A session closed cleanly counts each stream's records in its manifest. A file cut afterwards (at a
+  // line boundary, where no torn tail shows, or inside a line) loses records: an error naming the file,
+  // not a warning while bodies silently lose their samples.
+  TempDir tmp;
+  const fs::path dir = MakeSession(tmp);
+  EXPECT_EQ(nlohmann::json::parse(ReadAll(dir / "manifest.json"))["stream_records"]["events.jsonl"], 10);
+  const fs::path events = dir / "events.jsonl";
+  const std::string bytes = ReadAll(events);
+  const size_t fifth_end = [&] {
+    size_t pos = 0;
+    for (int i = 0; i < 5; ++i) pos = bytes.find('\n', pos) + 1;
+    return pos;
+  }();
+  WriteAll(events, bytes.substr(0, fifth_end));
+  EXPECT_THAT(ErrorOf([&] { SessionReader::Open(dir); }),
+              AllOf(HasSubstr("events.jsonl"), HasSubstr("holds 5 whole records"), HasSubstr("closed with 10")));
+  WriteAll(events, bytes.substr(0, bytes.size() - 3));
+  EXPECT_THAT(ErrorOf([&] { SessionReader::Open(dir); }), AllOf(HasSubstr("events.jsonl"), HasSubstr("cut")));
+  WriteAll(events, "");
+  EXPECT_THAT(ErrorOf([&] { SessionReader::Open(dir); }), HasSubstr("holds 0 whole records"));
+  // Reading what is left stays possible on request.
+  WriteAll(events, bytes.substr(0, fifth_end));
+  SessionReaderOptions lenient;
+  lenient.skip_corrupt_records = true;
+  EXPECT_EQ(SessionReader::Open(dir, lenient).events().size(), 5u);
+  WriteAll(events, bytes);
+  EXPECT_EQ(SessionReader::Open(dir).events().size(), 10u);
 }
 
 TEST(BadInput, PngCutInHalfNamesTheFile) {

@@ -138,6 +138,9 @@ ImportSummary ImportBop(const std::filesystem::path& scene_dir, const std::files
     camera.color_camera = g.frames.front()->camera;
     camera.depth_camera = g.frames.front()->camera;  // BOP depth is aligned with the colour image
     camera.depth_unit_m = g.frames.front()->depth_scale_mm * 1e-3;
+    // A BOP test split ships every few images of a sequence: gaps in im_id are a selection, not drops.
+    for (size_t i = 1; i < g.frames.size(); ++i)
+      camera.frames_subset = camera.frames_subset || g.frames[i]->im_id != g.frames[i - 1]->im_id + 1;
     manifest.cameras.push_back(camera);
     manifest.trackers.push_back({g.tracker, "bop_ground_truth", "", "camera:" + g.camera, g.bodies});
   }

@@ -193,8 +193,9 @@ std::string SimCameraName(SensorKind sensor) { return std::string(ToString(senso
 void RecordOptions::check() const {
   if (out_dir.empty()) throw InputError("sim record", "no output folder given (--out)");
   if (threads < 0) throw InputError("sim record", "threads must be >= 0");
-  if (fs::exists(out_dir) && !fs::is_empty(out_dir))
-    throw InputError(out_dir.string(), "exists and is not empty; choose another --out or remove it");
+  // An empty regular file is "empty" to std::filesystem too, but it is not a folder to record into.
+  if (fs::exists(out_dir) && (!fs::is_directory(out_dir) || !fs::is_empty(out_dir)))
+    throw InputError(out_dir.string(), "exists and is not an empty folder; choose another --out or remove it");
   context.check();
 }
 
