@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
+#include "cli/parse_args.h"
 #include "cli/commands.h"
 #include "cli/progress_flag.h"
 #include "cli/scenario_yaml.h"
@@ -55,15 +56,17 @@ int RunDemo(int argc, char** argv) {
   bool json = false;
   app.add_option("--out", out_dir, "output folder (replaced when it holds an earlier demo)")->capture_default_str();
   app.add_option("--scenario", scenario_path, "scenario YAML (default: the embedded default scenario)");
-  app.add_option("--frames", options.frames, "simulate only the first N frames (0: all of the scenario's)");
+  app.add_option("--frames", options.frames, "simulate only the first N frames (0: all of the scenario's)")
+      ->check(CLI::NonNegativeNumber);
   app.add_option("--validate-every", options.validate_frame_stride, "validate one frame in K (1: every frame)")
-      ->capture_default_str();
-  app.add_option("--threads", options.threads, "worker threads, each with its own EGL context (0: one per core)");
+      ->capture_default_str()->check(CLI::Range(1, 1'000'000));
+  app.add_option("--threads", options.threads, "worker threads, each with its own EGL context (0: one per core)")
+      ->check(CLI::Range(0, 256));
   app.add_option("--platform", platform, "EGL platform: auto, surfaceless or device");
   app.add_flag("--json", json, "print one JSON document on stdout");
   ProgressFlags progress_flags;
   AddProgressFlags(app, progress_flags);
-  CLI11_PARSE(app, argc, argv);
+  MOCAP_PARSE(app, argc, argv);
   const std::unique_ptr<ProgressSink> progress = ApplyProgressFlags(progress_flags);
   options.progress = progress.get();
   options.out_dir = out_dir;

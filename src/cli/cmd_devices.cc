@@ -2,6 +2,7 @@
 #include <cstdio>
 
 #include "capture/devices/device_scan.h"
+#include "cli/parse_args.h"
 #include "cli/commands.h"
 
 namespace mocap::cli {
@@ -17,7 +18,7 @@ int RunDevices(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--dev-dir", options.dev_dir, "where to look for ttyUSB*/ttyACM* serial ports")
       ->capture_default_str();
-  CLI11_PARSE(app, argc, argv);
+  MOCAP_PARSE(app, argc, argv);
   const capture::DeviceReport report = capture::ScanDevices(options);
   if (json) {
     std::printf("%s\n", capture::ToJson(report).dump(2).c_str());

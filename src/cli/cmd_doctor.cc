@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
+#include "cli/parse_args.h"
 #include "cli/commands.h"
 #include "core/check.h"
 #include "render/render_context.h"
@@ -58,7 +59,7 @@ int RunDoctor(int argc, char** argv) {
   app.add_flag("--json", json, "print one JSON document");
   app.add_option("--platform", platform, "EGL platform: auto, surfaceless (Mesa, CPU) or device (GPU)");
   app.add_option("--device", device, "EGL device index with --platform device (default: first GPU)");
-  CLI11_PARSE(app, argc, argv);
+  MOCAP_PARSE(app, argc, argv);
 
   RenderContextOptions options{.platform = EglPlatformFromString(platform), .device_index = device};
   nlohmann::json report{{"setup", RelevantEnvironment()}, {"ok", false}};

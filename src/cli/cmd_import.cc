@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
+#include "cli/parse_args.h"
 #include "cli/commands.h"
 #include "cli/progress_flag.h"
 #include "core/check.h"
@@ -105,7 +106,7 @@ int RunImport(int argc, char** argv) {
     sub->add_flag("--json", json, "print one JSON document");
     if (sub != bop) sub->add_option("--gap-limit", gap_limit_s, "log spans between samples longer than this (s)")->capture_default_str();
   }
-  CLI11_PARSE(app, argc, argv);
+  MOCAP_PARSE(app, argc, argv);
 
   const std::unique_ptr<ProgressSink> progress = ApplyProgressFlags(progress_flags);
   import::ImportSummary summary;

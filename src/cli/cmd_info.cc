@@ -8,6 +8,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 
+#include "cli/parse_args.h"
 #include "cli/commands.h"
 #include "core/check.h"
 #include "pipeline/provenance.h"
@@ -81,9 +82,11 @@ int RunInfo(int argc, char** argv) {
   RunFlags run;
   app.add_option("path", path, "session folder, or a run folder (one holding run.json: label, validation, demo)")->required();
   app.add_flag("--json", json, "print one JSON document");
-  app.add_option("--gap-limit", gap_limit_s, "report spans between samples longer than this (s)")->capture_default_str();
+  app.add_option("--gap-limit", gap_limit_s, "report spans between samples longer than this (s)")
+      ->capture_default_str()->check(CLI::Range(1e-6, 86400.0));
   app.add_option("--max-interpolation-gap", max_interpolation_gap_s,
-                 "longest span a camera pose is interpolated across (s)")->capture_default_str();
+                 "longest span a camera pose is interpolated across (s)")
+      ->capture_default_str()->check(CLI::Range(1e-6, 86400.0));
   app.add_flag("--skip-corrupt", skip_corrupt, "skip records that fail their checksum instead of stopping");
   app.add_option("--session", run.session, "run: compare with this session instead of the one it read");
   app.add_option("--rig", run.rig, "run: compare with this rig file");
@@ -91,10 +94,8 @@ int RunInfo(int argc, char** argv) {
   app.add_option("--labels", run.labels, "run: compare with this label run");
   app.add_option("--mesh", run.meshes, "run: compare object NAME's mesh with this file (NAME=PATH, repeatable)");
   app.add_flag("--check", run.check, "run: exit with status 1 when the run is stale");
-  CLI11_PARSE(app, argc, argv);
+  MOCAP_PARSE(app, argc, argv);
   if (fs::exists(fs::path(path) / "run.json")) return RunInfoOfRun(path, run, json);
-  if (!(gap_limit_s > 0) || !(max_interpolation_gap_s > 0))
-    throw InputError("--gap-limit/--max-interpolation-gap", "must be positive seconds");
 
   SessionReaderOptions reader_options;
   reader_options.skip_corrupt_records = skip_corrupt;

@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <nlohmann/json.hpp>
 
+#include "cli/parse_args.h"
 #include "cli/commands.h"
 #include "cli/progress_flag.h"
 #include "core/check.h"
@@ -40,8 +41,14 @@ int RunLabel(int argc, char** argv) {
   app.add_option("--objects", objects_file, "object library YAML (default: the session's objects.yaml)");
   app.add_option("--out", out_dir, "output folder (default: SESSION/labels)");
   app.add_option("--camera", options.cameras, "camera to label (repeatable; default: all)");
-  app.add_option("--threads", options.threads, "worker threads, each with its own EGL context (0: one per core)");
-  app.add_option("--max-gap-ms", max_gap_ms, "longest tracker gap bridged by interpolation");
+  app.add_option("--threads", options.threads, "worker threads, each with its own EGL context (0: one per core)")
+      ->check(CLI::Range(0, 256));
+  app.add_option("--max-gap-ms", max_gap_ms, "longest tracker gap bridged by interpolation")
+      ->check(CLI::Range(0.001, 60'000.0));
+  app.add_option("--outside-margin", options.renderer.outside_margin_fraction,
+                 "render canvas margin per side, as a fraction of the image, so that amodal boxes and pixel "
+                 "counts include what lies outside the image (1 = BOP's 3x canvas)")
+      ->check(CLI::Range(0.0, 1.0));
   app.add_option("--platform", platform, "EGL platform: auto, surfaceless or device");
   app.add_flag("--overlay", options.output.write_overlay, "also write label colours over the RGB image");
   bool no_masks = false, no_depth = false;
@@ -53,10 +60,13 @@ int RunLabel(int argc, char** argv) {
   app.add_option("--depth-compression", depth_compression, "OpenEXR codec of the rendered depth: none, rle, zips, zip, piz");
   app.add_option("--cull-back-faces", culling,
                  "auto (meshes found closed and outward-wound), always or never; objects.yaml cull_back_faces wins");
+  app.add_flag("--stop-on-bad-image", options.stop_on_unreadable_image,
+               "stop at a depth or colour file that cannot be decoded (default: label the frame without it and "
+               "flag its records unreadable_depth / unreadable_color)");
   app.add_flag("--json", json, "print one JSON summary on stdout");
   ProgressFlags progress_flags;
   AddProgressFlags(app, progress_flags);
-  CLI11_PARSE(app, argc, argv);
+  MOCAP_PARSE(app, argc, argv);
   const std::unique_ptr<ProgressSink> progress = ApplyProgressFlags(progress_flags);
   request.progress = progress.get();
 

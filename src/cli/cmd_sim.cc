@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "capture/kinect/fakenect_frame_tap.h"
+#include "cli/parse_args.h"
 #include "cli/commands.h"
 #include "cli/progress_flag.h"
 #include "cli/scenario_yaml.h"
@@ -133,7 +134,7 @@ int RunSim(int argc, char** argv) {
   record->add_flag("--fakenect", record_flags.fakenect, "also write the Kinect v1 frames as a fakenect recording (S/fakenect)");
   record->add_flag("--json", json, "print one JSON document");
   AddProgressFlags(*record, record_flags.progress);
-  CLI11_PARSE(app, argc, argv);
+  MOCAP_PARSE(app, argc, argv);
   if (meshes->parsed()) return RunSimMeshes(out_dir, json);
   if (record->parsed()) return RunSimRecord(record_flags, json);
   return RunSimCheck(scenario_path, objects_path, print_yaml, json);

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
+#include "cli/parse_args.h"
 #include "cli/commands.h"
 #include "cli/progress_flag.h"
 #include "core/check.h"
@@ -17,6 +18,13 @@ namespace {
 namespace fs = std::filesystem;
 
 void PrintHuman(const ValidationSummary& s, const fs::path& out) {
+  if (s.records_checked == 0) {
+    // No rate or median to report: they would read as measurements (0 %, 0.00 mm).
+    std::printf("checked 0 of %lld label records: nothing was checked, because %s\n",
+                static_cast<long long>(s.records), s.nothing_checked_why.c_str());
+    std::printf("%.2f s; report in %s\n", s.seconds, (out / "report.html").string().c_str());
+    return;
+  }
   std::printf("checked %lld of %lld label records (%lld without a pose); SegICP success %.1f %%\n",
               static_cast<long long>(s.records_checked), static_cast<long long>(s.records),
               static_cast<long long>(s.records_without_pose), 100 * s.segicp_success_rate);
@@ -52,12 +60,12 @@ int RunValidate(int argc, char** argv) {
   app.add_option("--seed", seed, "acquisition seed: label (hypotheses about the label) or view-sphere (the paper)")
       ->check(CLI::IsMember({"label", "view-sphere"}));
   app.add_flag("--track", options.track, "sequence mode: a Kalman tracker per object instance over its frames");
-  app.add_option("--threads", options.threads, "worker threads (0: one per core)");
+  app.add_option("--threads", options.threads, "worker threads (0: one per core)")->check(CLI::Range(0, 256));
   app.add_option("--platform", platform, "EGL platform for --crops renderer: auto, surfaceless or device");
   app.add_flag("--json", json, "print validation.json on stdout");
   ProgressFlags progress_flags;
   AddProgressFlags(app, progress_flags);
-  CLI11_PARSE(app, argc, argv);
+  MOCAP_PARSE(app, argc, argv);
   const std::unique_ptr<ProgressSink> progress = ApplyProgressFlags(progress_flags);
   request.progress = progress.get();
 

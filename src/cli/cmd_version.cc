@@ -2,6 +2,7 @@
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
+#include "cli/parse_args.h"
 #include "cli/commands.h"
 
 namespace mocap::cli {
@@ -10,7 +11,7 @@ int RunVersion(int argc, char** argv) {
   CLI::App app{"Print the version of mocaplabel", "mocaplabel version"};
   bool json = false;
   app.add_flag("--json", json, "print one JSON document");
-  CLI11_PARSE(app, argc, argv);
+  MOCAP_PARSE(app, argc, argv);
   if (json) {
     std::printf("%s\n", nlohmann::json{{"version", MOCAP_VERSION}}.dump().c_str());
   } else {

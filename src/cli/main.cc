@@ -21,11 +21,15 @@ void PrintUsage(std::FILE* out) {
 int main(int argc, char** argv) {
   if (argc < 2) {
     PrintUsage(stderr);
-    return 2;
+    return 2;  // usage error
   }
   const std::string name = argv[1];
   if (name == "--help" || name == "-h" || name == "help") {
     PrintUsage(stdout);
+    return 0;
+  }
+  if (name == "--version" || name == "-V") {
+    std::printf("mocaplabel %s\n", MOCAP_VERSION);
     return 0;
   }
   for (const auto& command : mocap::cli::AllCommands()) {
@@ -40,7 +44,7 @@ int main(int argc, char** argv) {
       return 1;
     }
   }
-  std::fprintf(stderr, "mocaplabel: unknown command '%s'\n", name.c_str());
-  PrintUsage(stderr);
+  // One line, as for every usage error (cli/parse_args.h); the command list is one --help away.
+  std::fprintf(stderr, "mocaplabel: usage error: unknown command '%s' (see mocaplabel --help)\n", name.c_str());
   return 2;
 }

@@ -146,3 +146,52 @@ TEST(PipelineCli, InfoShowsARunsProvenanceAndWhetherItIsStale) {
 
 }  // namespace
 }  // namespace mocap
+
+namespace mocap {
+namespace {
+
+size_t Lines(const std::string& text) { return static_cast<size_t>(std::count(text.begin(), text.end(), '\n')); }
+
+TEST(PipelineCli, UsageErrorsAreOneLineWithOneStatus) {
+  const testing::Inputs in = testing::MakeInputs("cli_usage", 1);
+  const fs::path log = in.dir / "log.txt";
+  for (const std::vector<std::string>& args :
+       {std::vector<std::string>{"label"}, {"label", in.session.string(), "--max-gap-ms", "1e308"},
+        {"label", in.session.string(), "--no-such-flag"}, {"validate", in.session.string(), "--threads", "x"},
+        {"import", "tum"}, {"sim", "record"}, {"no-such-command"}}) {
+    const testing::ProcessResult r = Mocaplabel(args, log);
+    EXPECT_EQ(r.exit_code, 2) << args[0] << ": " << r.output;
+    EXPECT_EQ(Lines(r.output), 1u) << r.output;
+    EXPECT_NE(r.output.find("usage error"), std::string::npos) << r.output;
+  }
+  // The flag is named, not the struct it binds to (was "InterpolationOptions.max_gap_ns").
+  const testing::ProcessResult gap = Mocaplabel({"label", in.session.string(), "--max-gap-ms", "1e308"}, log);
+  EXPECT_NE(gap.output.find("--max-gap-ms"), std::string::npos) << gap.output;
+  const testing::ProcessResult version = Mocaplabel({"--version"}, log);
+  EXPECT_EQ(version.exit_code, 0) << version.output;
+  EXPECT_EQ(version.output.rfind("mocaplabel ", 0), 0u) << version.output;
+  EXPECT_EQ(Mocaplabel({"label", "--help"}, log).exit_code, 0);
+}
+
+TEST(PipelineCli, AnEmptyFileAtOutIsNeverReplaced) {
+  const testing::Inputs in = testing::MakeInputs("cli_out_file", 1);
+  const fs::path file = in.dir / "notes.txt";
+  std::ofstream{file};
+  const std::string shared = MOCAP_SHARED_DIR;
+  ASSERT_EQ(Mocaplabel(LabelArgs(in, in.dir / "L"), in.dir / "label.txt").exit_code, 0);
+  for (const std::vector<std::string>& args :
+       {LabelArgs(in, file),
+        {"validate", in.session.string(), "--labels", (in.dir / "L").string(), "--objects", in.objects.string(),
+         "--out", file.string()},
+        {"import", "tum", shared + "/realdata/tum_fr1_desk_9frames", "--out", file.string()},
+        {"sim", "record", "--out", file.string()},
+        {"demo", "--out", file.string()}}) {
+    const testing::ProcessResult r = Mocaplabel(args, in.dir / "log.txt");
+    EXPECT_NE(r.exit_code, 0) << args[0] << ": " << r.output;
+    EXPECT_NE(r.output.find(file.string()), std::string::npos) << args[0] << ": " << r.output;
+    ASSERT_TRUE(fs::is_regular_file(file)) << args[0] << " replaced the file";
+  }
+}
+
+}  // namespace
+}  // namespace mocap
