@@ -54,7 +54,7 @@ CaptureDaemon::CaptureDaemon(const CaptureDaemonOptions& options, std::vector<st
   try {
     for (auto& source : sources_) {
       source->Open();
-      source->Start(this);
+      if (!source->starts_with_session()) source->Start(this);
     }
   } catch (...) {
     for (auto& source : sources_) source->Close();  // before the members they push into are gone
@@ -133,17 +133,35 @@ SessionManifest CaptureDaemon::BuildManifest() const {
 
 nlohmann::json CaptureDaemon::StartSession(const std::string& name) {
   CheckSessionName(name);
-  std::lock_guard lock(session_mutex_);
-  if (recorder_) throw StateError("session '" + session_name_ + "' is recording: stop it first");
   const fs::path dir = options_.sessions_dir / name;
-  if (fs::exists(dir)) throw InputError(dir.string(), "exists already: choose another session name");
-  RecorderOptions recorder_options = options_.recorder;
-  recorder_options.session_dir = dir;
-  recorder_ = Recorder::Start(recorder_options, BuildManifest());
-  session_name_ = name;
-  failed_summary_.reset();
+  {
+    std::lock_guard lock(session_mutex_);
+    if (recorder_) throw StateError("session '" + session_name_ + "' is recording: stop it first");
+    if (fs::exists(dir)) throw InputError(dir.string(), "exists already: choose another session name");
+    RecorderOptions recorder_options = options_.recorder;
+    recorder_options.session_dir = dir;
+    recorder_ = Recorder::Start(recorder_options, BuildManifest());
+    session_name_ = name;
+    failed_summary_.reset();
+  }
   Log().info("capture: recording {}", dir.string());
+  StartReplays();  // without session_mutex_: a starting source pushes its first events at once
   return {{"session", name}, {"dir", dir.string()}, {"state", "recording"}};
+}
+
+// A replay that cannot start (its device refuses) is an error event of the session, not a failed start:
+// the other sources record on. Replays started by an earlier session play on.
+void CaptureDaemon::StartReplays() {
+  std::lock_guard lock(replay_mutex_);
+  for (auto& source : sources_) {
+    if (!source->starts_with_session() || source->state() != DeviceState::kOpen) continue;
+    try {
+      source->Start(this);
+      PushEvent({MonotonicNowNs(), "note", source->name(), "replay started with this session"});
+    } catch (const std::exception& e) {
+      PushEvent({MonotonicNowNs(), "error", source->name(), std::string("replay did not start: ") + e.what()});
+    }
+  }
 }
 
 nlohmann::json CaptureDaemon::StopSession() {

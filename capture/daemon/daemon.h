@@ -1,9 +1,11 @@
 #pragma once
 // The capture daemon's core, without HTTP: it opens the rig's sources once and keeps them streaming
 // (so `status` shows live rates and visible bodies between sessions), and records a session between
-// StartSession and StopSession by forwarding everything the sources push to a Recorder. A session that
-// a write error stopped (a full disk) is closed at once; its error stays in status() and is returned by
-// the next StopSession.
+// StartSession and StopSession by forwarding everything the sources push to a Recorder. Replays
+// (CaptureSource::starts_with_session) are opened at once but started by the first StartSession, after
+// its recorder exists, so their first frame is in the session; they then play on like live devices.
+// A session that a write error stopped (a full disk) is closed at once; its error stays in status()
+// and is returned by the next StopSession.
 #include <filesystem>
 #include <map>
 #include <memory>
@@ -35,12 +37,12 @@ class StateError : public std::runtime_error {
 
 class CaptureDaemon final : public CaptureSink {
  public:
-  /// Opens and starts every source (DeviceError / InputError from the first that fails).
+  /// Opens every source and starts the live ones (DeviceError / InputError from the first that fails).
   CaptureDaemon(const CaptureDaemonOptions& options, std::vector<std::unique_ptr<CaptureSource>> sources);
   ~CaptureDaemon() override;  ///< stops a running session (complete) and closes the sources
 
-  /// Starts recording into <sessions_dir>/<name>. Throws InputError for a bad name or an existing
-  /// session, StateError while a session is running.
+  /// Starts recording into <sessions_dir>/<name>, then the replays not started yet. Throws InputError
+  /// for a bad name or an existing session, StateError while a session is running.
   nlohmann::json StartSession(const std::string& name);
   /// Stops and closes the running session; returns its summary. StateError when none is running and
   /// none failed since the last stop.
@@ -55,6 +57,7 @@ class CaptureDaemon final : public CaptureSink {
  private:
   struct StreamStats;
   SessionManifest BuildManifest() const;
+  void StartReplays();  // session_mutex_ not held
   void WatchForFailure();
   StreamStats& stats(const std::string& stream);  // stats_mutex_ held
 
@@ -66,6 +69,7 @@ class CaptureDaemon final : public CaptureSink {
   std::optional<RecorderSummary> failed_summary_;
   mutable std::mutex stats_mutex_;
   std::map<std::string, std::unique_ptr<StreamStats>> stats_;
+  std::mutex replay_mutex_;  // one StartReplays at a time
   std::thread watcher_;
   std::atomic<bool> stop_{false};
 };

@@ -1,9 +1,12 @@
 #include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <condition_variable>
+#include <optional>
 #include <thread>
 
 #include "capture/daemon/sources.h"
+#include "capture/kinect/fakenect_recording.h"
 #include "core/check.h"
 
 namespace mocap::capture {
@@ -54,16 +57,41 @@ class Kinect1Source final : public CaptureSource {
             {"stream_ended", ended_reason_}};
   }
 
+  // fakenect plays its recording once, from the first frames read; the daemon starts it with a session.
+  bool starts_with_session() const override {
+    std::lock_guard lock(mutex_);
+    return replay_;
+  }
+
  private:
   void DoOpen() override {
-    replay_ = ProbeLibfreenect().replay;
+    const LibfreenectInfo library = ProbeLibfreenect();
     auto device = CreateKinect1Device(options_.device);
     device->Open();
     std::lock_guard lock(mutex_);
     device_ = std::move(device);
+    replay_ = library.replay;
+    if (replay_) TakeRecordingCamera(library.fakenect_path);
+  }
+
+  // A replay starts with the session, after its manifest is written: take the intrinsics and the
+  // registration its frames will carry from the recording now, and its first depth image's ticks, the
+  // origin of its schedule (mutex_ held).
+  void TakeRecordingCamera(const std::string& recording) {
+    for (const FakenectEntry& entry : ReadFakenectIndex(recording))
+      if (entry.type == 'd') {
+        replay_first_ticks_ = entry.ticks;
+        break;
+      }
+    const std::optional<RecordingCamera> recorded = ReadRecordingCamera(recording);
+    if (!recorded) return;
+    registered_ = recorded->depth_registered;
+    depth_camera_ = options_.device.depth_camera.value_or(recorded->depth_camera);
+    intrinsics_source_ = options_.device.depth_camera ? "options" : "recording";
   }
   void DoStart(CaptureSink* sink) override {
     sink_ = sink;
+    replay_start_ns_ = MonotonicNowNs();
     {
       std::lock_guard lock(mutex_);
       stop_ = false;
@@ -99,12 +127,22 @@ class Kinect1Source final : public CaptureSource {
       registered_ = frame.depth_registered;
     }
     out.record.device_ticks = frame.depth_ticks;
-    out.record.stamp_ns = frame.depth_host_ns;
+    out.record.stamp_ns = replay_ ? ReplayStampNs(frame) : frame.depth_host_ns;
     out.color = std::move(frame.bgr);
     out.depth = std::move(frame.depth_mm);
     if (gap_pending_) ReportGap(out.record);
     last_stamp_ns_ = out.record.stamp_ns;
     sink_->PushFrame(std::move(out));
+  }
+
+  // A replayed frame is stamped when it was due: the replay's start plus its device time since the
+  // recording's first depth image. fakenect's sleeps run late on a busy host (30 Hz frames 50 ms
+  // apart), and the receive time would shift the frame against the tracker replay started with it.
+  int64_t ReplayStampNs(const RgbdFrame& frame) const {
+    if (!replay_first_ticks_ || frame.ticks_per_second <= 0) return frame.depth_host_ns;
+    const int64_t since_first = frame.depth_ticks - *replay_first_ticks_;
+    if (since_first < 0) return frame.depth_host_ns;
+    return replay_start_ns_ + std::llround(static_cast<double>(since_first) * 1e9 / frame.ticks_per_second);
   }
 
   void ReportGap(const CameraFrameRecord& first_after) {
@@ -122,7 +160,9 @@ class Kinect1Source final : public CaptureSource {
       if (stop_) return;
     }
     const std::string reason = device_->stream_end_reason().value_or("stream ended");
-    sink_->PushEvent({MonotonicNowNs(), "error", name(), "camera stream ended: " + reason});
+    // The end of a replay is expected, but no more frames will come: a warning, not a device error.
+    sink_->PushEvent({MonotonicNowNs(), replay_ ? "warning" : "error", name(),
+                      (replay_ ? "camera replay ended, no more frames: " : "camera stream ended: ") + reason});
     {
       std::lock_guard lock(mutex_);
       ended_reason_ = reason;
@@ -179,6 +219,9 @@ class Kinect1Source final : public CaptureSource {
   std::string intrinsics_source_;
   std::string ended_reason_;
   int64_t frames_ = 0, reconnects_ = 0, unpaired_depth_ = 0, unpaired_color_ = 0;
+  // Set before streaming (DoOpen, DoStart), read on the device thread:
+  std::optional<int64_t> replay_first_ticks_;
+  int64_t replay_start_ns_ = 0;
   // Device thread only (one device streams at a time):
   std::atomic<bool> gap_pending_{false};
   std::atomic<int64_t> last_stamp_ns_{0};

@@ -1,3 +1,4 @@
+#include <cmath>
 #include <mutex>
 #include <set>
 
@@ -8,6 +9,7 @@ namespace mocap::capture {
 
 void NdiSourceOptions::check() const {
   if (stream.empty()) throw InputError("tracker.stream", "is empty: name the tracker stream");
+  if (!(no_pose_warning_s > 0)) throw InputError("tracker.no_pose_warning_s", Str(no_pose_warning_s, " must be > 0"));
   client.check();
 }
 
@@ -58,8 +60,11 @@ class NdiSource final : public CaptureSource {
             {"timeouts", s.timeouts},
             {"device_errors", s.device_errors},
             {"disconnects", s.disconnects},
-            {"reconnects", s.reconnects}};
+            {"reconnects", s.reconnects},
+            {"replay", options_.replay}};
   }
+
+  bool starts_with_session() const override { return options_.replay; }
 
  private:
   std::string endpoint() const {
@@ -100,6 +105,7 @@ class NdiSource final : public CaptureSource {
   void OnSample(const ndi::TrackerSample& sample) {
     CaptureSink* sink = sink_.load();
     if (!sink) return;
+    WatchPoses(sample, *sink);
     for (const ndi::BodySample& body : sample.bodies) {
       CapturedSample out;
       out.tracker = name();
@@ -113,6 +119,27 @@ class NdiSource final : public CaptureSource {
       out.record.port_status = body.port_status;
       sink->PushSample(std::move(out));
     }
+  }
+
+  // Polling thread only. Silence is not an answer: MISSING bodies forever (a replay past its end, tools
+  // covered) get one "warning", so the session says why it has no poses.
+  void WatchPoses(const ndi::TrackerSample& sample, CaptureSink& sink) {
+    bool any_pose = false;
+    for (const ndi::BodySample& body : sample.bodies) any_pose = any_pose || (HasPose(body.status) && body.has_pose);
+    if (any_pose || last_pose_ns_ == 0) {
+      if (any_pose && warned_no_pose_)
+        sink.PushEvent({sample.host_stamp_ns, "note", name(),
+                        Str("poses again after ", (sample.host_stamp_ns - last_pose_ns_) * 1e-9, " s without any")});
+      last_pose_ns_ = sample.host_stamp_ns;
+      warned_no_pose_ = false;
+      return;
+    }
+    const int64_t without_ns = sample.host_stamp_ns - last_pose_ns_;
+    if (warned_no_pose_ || without_ns < std::llround(options_.no_pose_warning_s * 1e9)) return;
+    warned_no_pose_ = true;
+    sink.PushEvent({sample.host_stamp_ns, "warning", name(),
+                    Str("no body has had a pose for ", without_ns * 1e-9, " s (every tool hidden or out of the "
+                        "volume, or an NDI emulator whose replay has ended)")});
   }
 
   void OnEvent(const ndi::TrackerEvent& event) {
@@ -136,6 +163,8 @@ class NdiSource final : public CaptureSource {
   mutable std::mutex mutex_;
   std::vector<std::string> bodies_;
   bool connected_ = false;
+  int64_t last_pose_ns_ = 0;     // polling thread: the last sample with a pose (or the first sample)
+  bool warned_no_pose_ = false;  // polling thread
 };
 
 }  // namespace

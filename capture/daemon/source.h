@@ -74,6 +74,10 @@ class CaptureSource {
   virtual StreamInfo stream_info() const = 0;
   /// Device-specific counters for `status` (CRC errors, reconnects, unpaired images, ...).
   virtual nlohmann::json device_status() const = 0;
+  /// True for a replay (a fakenect camera, an NDI emulator replaying a session): CaptureDaemon opens it
+  /// at once but starts it with the first session, so the recording plays from its start into that
+  /// session. Live devices stream from the daemon's start. Valid after Open().
+  virtual bool starts_with_session() const { return false; }
 
  protected:
   explicit CaptureSource(std::string name) : name_(std::move(name)) {}

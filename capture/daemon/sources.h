@@ -7,11 +7,13 @@
 // the pipeline shows as a skipped number). When the stream ends by itself (unplugged, USB error) the
 // source logs an "error" event, reopens the device with exponential backoff, logs "reconnect", and a
 // "gap" event with the first frame after it. Under the fakenect replay the end of the recording is the
-// end of the stream: it is logged and not reopened (reopening would replay the recording again).
+// end of the stream: a "warning" event, not reopened (fakenect 0.5.3 would not replay it again). A
+// fakenect source starts with the daemon's first session (CaptureSource::starts_with_session).
 //
 // NDI (capture/ndi NdiClient): one record per body per tracker frame; client events become session
 // events: kGap -> "gap", kDisconnected -> "error", kReconnected -> "reconnect", damaged replies and
-// ERRORxx answers -> "error", system status changes -> "note".
+// ERRORxx answers -> "error", system status changes -> "note"; every body without a pose for
+// no_pose_warning_s -> "warning" (once, until a pose comes back: "note").
 #include <memory>
 #include <optional>
 #include <string>
@@ -41,6 +43,12 @@ struct NdiSourceOptions {
   std::string stream = "ndi";     ///< tracker stream name in the session
   std::string model = "polaris";  ///< manifest model
   ndi::NdiClientOptions client;
+  /// The tracker replays a recording (`mocaplabel ndi-emulator --replay`, whose replay starts at
+  /// TSTART): tracking starts with the daemon's first session, with a replayed camera.
+  bool replay = false;
+  /// Every body without a pose this long raises one "warning" event (tools hidden, or a replay that
+  /// ended); a pose again raises a "note".
+  double no_pose_warning_s = 2.0;
   void check() const;
 };
 std::unique_ptr<CaptureSource> CreateNdiSource(const NdiSourceOptions& options);

@@ -49,8 +49,25 @@ void EmulatedTrackerOptions::check() const {
   if (!(dropout >= 0 && dropout <= 1)) throw InputError("emulator dropout", Str(dropout, " is not a probability"));
 }
 
-EmulatedTracker::EmulatedTracker(EmulatedTrackerOptions options, std::shared_ptr<const TrajectorySource> trajectory)
-    : options_(std::move(options)), trajectory_(std::move(trajectory)) {
+void TrackingClock::Start(double t_s) {
+  std::lock_guard lock(mutex_);
+  if (!start_s_) start_s_ = t_s;
+}
+
+void TrackingClock::Stop() {
+  std::lock_guard lock(mutex_);
+  start_s_.reset();
+}
+
+double TrackingClock::Since(double t_s) const {
+  std::lock_guard lock(mutex_);
+  return start_s_ ? std::max(t_s - *start_s_, 0.0) : 0.0;
+}
+
+EmulatedTracker::EmulatedTracker(EmulatedTrackerOptions options, std::shared_ptr<const TrajectorySource> trajectory,
+                                 std::shared_ptr<TrackingClock> clock)
+    : options_(std::move(options)), trajectory_(std::move(trajectory)),
+      clock_(clock ? std::move(clock) : std::make_shared<TrackingClock>()) {
   options_.check();
   MOCAP_CHECK(trajectory_ && trajectory_->body_count() > 0 && trajectory_->body_count() < 0xFF, "trajectory");
 }
@@ -61,6 +78,10 @@ uint32_t EmulatedTracker::FrameAt(double t_s) const {
 
 double EmulatedTracker::TimeOfFrame(uint32_t frame) const {
   return static_cast<double>(frame - options_.first_frame) / options_.rate_hz;
+}
+
+double EmulatedTracker::TrackingTime(double t_s) const {
+  return options_.clock_from_tstart ? clock_->Since(t_s) : t_s;
 }
 
 void EmulatedTracker::Reset() {
@@ -116,10 +137,12 @@ std::string EmulatedTracker::Dispatch(std::string_view name, Params params, doub
   if (name == "PHF" || name == "PINIT" || name == "PENA" || name == "PDIS") return HandleCommand(name, params);
   if (name == "TSTART") {
     tracking_ = true;
+    clock_->Start(t_s);
     return FrameReply("OKAY");
   }
   if (name == "TSTOP") {
     tracking_ = false;
+    clock_->Stop();
     return FrameReply("OKAY");
   }
   if (name == "BX" || name == "TX") return Tracking(name, params, t_s, reply);
@@ -208,7 +231,9 @@ std::string EmulatedTracker::Tracking(std::string_view name, Params params, doub
   const std::optional<uint32_t> options = cursor.Hex(4);
   if (!options || !cursor.AtEnd()) return FrameErrorReply(kParameterCount);
   if (!(*options & reply_option::kTransforms) || (*options & ~0x0801u)) return FrameErrorReply(kOutOfRange);
-  const uint32_t frame = FrameAt(t_s);
+  const uint32_t frame = FrameAt(TrackingTime(t_s));
+  const std::optional<double> end_s = trajectory_->end_s();
+  reply.past_end = end_s && TimeOfFrame(frame) > *end_s;
   TrackingReply tracking;
   for (const auto& [number, handle] : handles_) {
     if (!handle.initialised || handle.body < 0) continue;

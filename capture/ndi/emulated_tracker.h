@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -25,7 +26,26 @@ struct EmulatedTrackerOptions {
   /// Bodies appear as already-present (wired) handles 01, 02, ... after INIT; otherwise only through
   /// PHRQ + PVWR (passive tools). Either way PHRQ binds the next body whose handle is not yet initialised.
   bool preloaded_handles = true;
+  /// Tracking time 0 is a client's TSTART (TrackingClock: `mocaplabel ndi-emulator`), so a client that
+  /// connects late still hears a replay from its start; otherwise it is the `t_s` the caller passes
+  /// (the emulator's start: in-process users sharing that clock, `capture replay`).
+  bool clock_from_tstart = false;
   void check() const;
+};
+
+/// Tracking time of clock_from_tstart, shared by an emulator's connections: a TSTART starts it when it
+/// is not running, a TSTOP stops it (the next TSTART starts from 0 again). A client that loses its
+/// connection and comes back (INIT, TSTART, no TSTOP) continues it, so frame numbers go on. Thread-safe.
+class TrackingClock {
+ public:
+  void Start(double t_s);
+  void Stop();
+  /// Seconds since the start at caller time `t_s`; 0 when not running.
+  double Since(double t_s) const;
+
+ private:
+  mutable std::mutex mutex_;
+  std::optional<double> start_s_;
 };
 
 /// The reply to one command.
@@ -34,15 +54,21 @@ struct EmulatorReply {
   bool tracking_data = false;      ///< BX/TX data (latency and corruption apply to these)
   TrackingReply served{};          ///< what the BX/TX reply carries, when tracking_data
   int new_baud = 0;                ///< COMM acknowledged: the line switches to this baud after the reply
+  bool past_end = false;           ///< BX/TX for a time after the trajectory's end (a replay ran out)
 };
 
 class EmulatedTracker {
  public:
-  EmulatedTracker(EmulatedTrackerOptions options, std::shared_ptr<const TrajectorySource> trajectory);
+  /// `clock`: the emulator's shared tracking clock (clock_from_tstart); null: one of its own.
+  EmulatedTracker(EmulatedTrackerOptions options, std::shared_ptr<const TrajectorySource> trajectory,
+                  std::shared_ptr<TrackingClock> clock = nullptr);
 
-  /// One command as received, without or with its trailing CR. `t_s`: seconds since tracking started
-  /// (selects the frame).
+  /// One command as received, without or with its trailing CR. `t_s`: seconds on the caller's clock
+  /// (the emulator's start); with clock_from_tstart the frame is chosen by the time since TSTART.
   EmulatorReply Handle(std::string_view line, double t_s);
+  /// Tracking time at `t_s` on the caller's clock (with clock_from_tstart: since the TSTART that
+  /// started the clock, 0 while it is stopped).
+  double TrackingTime(double t_s) const;
 
   /// Frame number at `t_s`, and the time of a frame.
   uint32_t FrameAt(double t_s) const;
@@ -72,6 +98,7 @@ class EmulatedTracker {
   std::map<int, PortHandle> handles_;
   bool initialised_ = false;
   bool tracking_ = false;
+  std::shared_ptr<TrackingClock> clock_;
 };
 
 }  // namespace mocap::ndi

@@ -15,6 +15,7 @@
 #include "capture/ndi/client.h"
 #include "capture/ndi/encode.h"
 #include "core/check.h"
+#include "core/log.h"
 
 namespace mocap::ndi {
 namespace {
@@ -118,9 +119,10 @@ void Emulator::AcceptLoop() {
 }
 
 void Emulator::Serve(int fd, bool is_socket) {
-  EmulatedTracker tracker(options_.tracker, trajectory_);
+  EmulatedTracker tracker(options_.tracker, trajectory_, clock_);
   uint64_t rng_state = options_.tracker.seed * 0x9E3779B97F4A7C15ULL + static_cast<uint64_t>(fd) + 1;
   std::string pending;
+  bool logged_end = false;
   while (!stop_) {
     pollfd pfd{fd, POLLIN, 0};
     const int ready = ::poll(&pfd, 1, kPollMs);
@@ -137,6 +139,7 @@ void Emulator::Serve(int fd, bool is_socket) {
     for (size_t cr; (cr = pending.find('\r')) != std::string::npos;) {
       EmulatorReply reply = tracker.Handle(std::string_view(pending).substr(0, cr), Elapsed());
       pending.erase(0, cr + 1);
+      NotePastEnd(reply, logged_end);
       Reply(fd, std::move(reply), rng_state);
     }
     if (pending.size() > kMaxCommandBytes) {
@@ -148,6 +151,16 @@ void Emulator::Serve(int fd, bool is_socket) {
   std::lock_guard lock(mutex_);
   connection_fds_.erase(std::remove(connection_fds_.begin(), connection_fds_.end(), fd), connection_fds_.end());
   ::close(fd);
+}
+
+// Once per connection: the replay ran out, and every body is MISSING from now on.
+void Emulator::NotePastEnd(const EmulatorReply& reply, bool& logged) const {
+  if (!reply.past_end || logged || !options_.log_replay_end) return;
+  logged = true;
+  const uint32_t frame = reply.served.handles.empty() ? 0 : reply.served.handles.front().frame_number;
+  Log().warn("NDI emulator: the replayed recording ended at tracking time {:.2f} s (frame {}): every body is MISSING "
+             "from now on; a client that stops tracking (TSTOP: the daemon exits) and starts again hears it from the start",
+             trajectory_->end_s().value_or(0.0), frame);
 }
 
 void Emulator::Reply(int fd, EmulatorReply reply, uint64_t& rng_state) {
@@ -167,6 +180,7 @@ void Emulator::Reply(int fd, EmulatorReply reply, uint64_t& rng_state) {
     stats_.tracking_replies += reply.tracking_data;
     stats_.error_replies += reply.bytes.rfind("ERROR", 0) == 0;
     stats_.corrupted_replies += corrupted;
+    stats_.past_end_replies += reply.past_end;
     if (reply.new_baud) stats_.last_baud = reply.new_baud;
   }
   if (reply.tracking_data && on_served_) on_served_(reply.served, corrupted);

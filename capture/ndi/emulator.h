@@ -23,6 +23,9 @@ struct EmulatorOptions {
   double latency_ms = 0;            ///< delay before each BX/TX reply
   double corrupt = 0;               ///< probability that a BX/TX reply gets one byte flipped
   EmulatedTrackerOptions tracker{};
+  /// Log (warning) the first reply of each connection past the trajectory's end (a replay that ran
+  /// out): `mocaplabel ndi-emulator`. Off for in-process replays whose end is planned (`capture replay`).
+  bool log_replay_end = false;
   void check() const;
 };
 
@@ -32,6 +35,7 @@ struct EmulatorStats {
   uint64_t tracking_replies = 0;
   uint64_t error_replies = 0;
   uint64_t corrupted_replies = 0;
+  uint64_t past_end_replies = 0;    ///< BX/TX after the trajectory's end (a replay that ran out)
   int last_baud = 9600;             ///< last baud rate acknowledged with COMM
 };
 
@@ -47,7 +51,9 @@ class Emulator {
   using ServedCallback = std::function<void(const TrackingReply& reply, bool corrupted)>;
   void SetServedCallback(ServedCallback callback) { on_served_ = std::move(callback); }
 
-  /// Binds and listens; throws InputError when the address cannot be bound. Tracking time starts now.
+  /// Binds and listens; throws InputError when the address cannot be bound. The emulator's clock starts
+  /// now; tracking time is this clock, or the time since a client's TSTART (clock_from_tstart:
+  /// TrackingClock, shared by all connections).
   void Start();
   /// Serves the tracker on `fd` (e.g. a pty master; not owned, not closed) on its own thread until
   /// Stop(). A hang-up on the other side (the pty slave closed) is waited out, not an end.
@@ -68,10 +74,12 @@ class Emulator {
   void AcceptLoop();
   void Serve(int fd, bool is_socket);
   void Reply(int fd, EmulatorReply reply, uint64_t& rng_state);
+  void NotePastEnd(const EmulatorReply& reply, bool& logged) const;
 
   EmulatorOptions options_;
   std::shared_ptr<const TrajectorySource> trajectory_;
   EmulatedTracker model_;
+  std::shared_ptr<TrackingClock> clock_ = std::make_shared<TrackingClock>();  ///< of every connection
   ServedCallback on_served_;
   int64_t start_ns_ = 0;
   int listen_fd_ = -1;

@@ -38,6 +38,8 @@ class RecordedTrajectory final : public TrajectorySource {
   int body_count() const override { return static_cast<int>(bodies_.size()); }
   std::string body_name(int body) const override { return bodies_.at(static_cast<size_t>(body)).name; }
   BodyState At(int body, double t_s) const override;
+  /// Tracking time of the last sample: after it every body is MISSING.
+  std::optional<double> end_s() const override { return (last_stamp_ns_ - options_.origin_ns) * 1e-9; }
   /// Recording time of the last sample over all bodies (ns).
   int64_t last_stamp_ns() const { return last_stamp_ns_; }
 

@@ -39,6 +39,8 @@ class TrajectorySource {
   /// Precondition: 0 <= body < body_count(), t_s >= 0 (seconds since tracking started). Must be
   /// thread-safe (const).
   virtual BodyState At(int body, double t_s) const = 0;
+  /// Tracking time after which nothing more happens (a recording's last sample), if there is one.
+  virtual std::optional<double> end_s() const { return std::nullopt; }
 };
 
 /// An axis-aligned measurement volume in the tracker frame (metres).

@@ -3,15 +3,19 @@
 // (pipeline/rig.h) and mapped onto the daemon's options there.
 #include <CLI/CLI.hpp>
 #include <signal.h>
+#include <unistd.h>
 
 #include <cstdio>
 #include <nlohmann/json.hpp>
+#include <optional>
 
 #include "capture/daemon/control_server.h"
 #include "capture/daemon/control_token.h"
 #include "capture/daemon/daemon.h"
+#include "capture/daemon/daemon_address.h"
 #include "capture/daemon/rerecord.h"
 #include "capture/daemon/sources.h"
+#include "cli/parse_args.h"
 #include "cli/commands.h"
 #include "core/check.h"
 #include "pipeline/rig.h"
@@ -35,6 +39,22 @@ void WaitForSignal(const sigset_t& signals) {
   std::fprintf(stderr, "capture: %s received, finishing\n", ::strsignal(signal));
 }
 
+// <sessions_dir>/.capture-daemon.json while the daemon listens: clients given only the rig find its port.
+class AddressFileGuard {
+ public:
+  AddressFileGuard(fs::path sessions_dir, const capture::DaemonAddress& address)
+      : sessions_dir_(std::move(sessions_dir)), pid_(address.pid) {
+    capture::WriteDaemonAddress(sessions_dir_, address);
+  }
+  ~AddressFileGuard() { capture::RemoveDaemonAddress(sessions_dir_, pid_); }
+  AddressFileGuard(const AddressFileGuard&) = delete;
+  AddressFileGuard& operator=(const AddressFileGuard&) = delete;
+
+ private:
+  fs::path sessions_dir_;
+  int64_t pid_;
+};
+
 int RunDaemon(const fs::path& rig_path, const std::optional<fs::path>& sessions, ControlServerOptions overrides,
               bool port_given, bool bind_given, bool json) {
   CaptureRig rig = LoadCaptureRig(rig_path);
@@ -57,6 +77,7 @@ int RunDaemon(const fs::path& rig_path, const std::optional<fs::path>& sessions,
   if (rig.camera) sources.push_back(capture::CreateKinect1Source(*rig.camera));
   capture::CaptureDaemon daemon(rig.daemon, std::move(sources));
   capture::ControlServer server(daemon, rig.control);
+  const AddressFileGuard address_file(rig.daemon.sessions_dir, {rig.control.bind, server.port(), ::getpid()});
   const nlohmann::json where = {{"bind", rig.control.bind}, {"port", server.port()},
                                 {"sessions_dir", rig.daemon.sessions_dir.string()}, {"pid", ::getpid()}};
   if (json) std::printf("%s\n", where.dump().c_str());
@@ -80,18 +101,31 @@ struct ClientFlags {
   std::string token;
   std::string token_file;
   std::string rig;
+  std::string sessions;  ///< the daemon's --sessions, where it wrote its address
   bool json = false;
 };
+
+// --rig R: the address the running daemon wrote into its sessions folder, else R's control section
+// (where port 0 means "any free port": only the daemon's file can tell which).
+ClientFlags DaemonAddressOf(const ClientFlags& flags) {
+  ClientFlags where = flags;
+  const CaptureRig rig = LoadCaptureRig(flags.rig);
+  const fs::path sessions = flags.sessions.empty() ? rig.daemon.sessions_dir : fs::path(flags.sessions);
+  const std::optional<capture::DaemonAddress> running = capture::ReadDaemonAddress(sessions);
+  const std::string bind = running ? running->bind : rig.control.bind;
+  where.port = running ? running->port : rig.control.port;
+  if (bind != "0.0.0.0") where.host = bind;
+  if (where.port == 0)
+    throw InputError(flags.rig, Str("control.port is 0 and no running daemon wrote its port to ",
+                                    capture::DaemonAddressFile(sessions).string(),
+                                    ": start `mocaplabel capture daemon --rig ", flags.rig, "` (with the same --sessions) or give --port"));
+  return where;
+}
 
 // One request to the daemon; prints the answer and returns the exit status.
 int Request(const ClientFlags& flags, const std::string& method, const std::string& path, const nlohmann::json& body,
             const std::function<void(const nlohmann::json&)>& print) {
-  ClientFlags where = flags;
-  if (!flags.rig.empty()) {
-    const CaptureRig rig = LoadCaptureRig(flags.rig);
-    where.port = rig.control.port;
-    if (rig.control.bind != "0.0.0.0") where.host = rig.control.bind;
-  }
+  const ClientFlags where = flags.rig.empty() ? flags : DaemonAddressOf(flags);
   httplib::Client client(where.host, where.port);
   client.set_connection_timeout(2);
   client.set_read_timeout(30);
@@ -148,7 +182,8 @@ void AddClientFlags(CLI::App* command, ClientFlags& flags) {
   command->add_option("--port", flags.port, "daemon control port")->capture_default_str();
   command->add_option("--token", flags.token, "token the daemon was started with (visible in ps: prefer --token-file or $MOCAPLABEL_TOKEN)");
   command->add_option("--token-file", flags.token_file, "read the token from the first line of this file");
-  command->add_option("--rig", flags.rig, "take the control address from this rig file");
+  command->add_option("--rig", flags.rig, "find the daemon started with this rig file (its sessions folder, then its control section)");
+  command->add_option("--sessions", flags.sessions, "with --rig: the daemon's --sessions folder, if it was given one");
   command->add_flag("--json", flags.json, "print the daemon's JSON answer on stdout");
 }
 
@@ -187,7 +222,7 @@ int RunCapture(int argc, char** argv) {
   replay->add_option("--out", replay_out, "new session folder (must not exist)")->required();
   replay->add_option("--poll-factor", rerecord.poll_factor, "BX polls per tracker frame")->capture_default_str();
   replay->add_flag("--json", replay_json, "print the result as JSON");
-  CLI11_PARSE(app, argc, argv);
+  MOCAP_PARSE(app, argc, argv);
 
   if (replay->parsed()) {
     rerecord.source_session = replay_source;

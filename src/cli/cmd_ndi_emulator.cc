@@ -6,16 +6,20 @@
 #include <stdlib.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cstdint>
 #include <cstdio>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <nlohmann/json.hpp>
 
 #include "capture/daemon/session_replay.h"
 #include "capture/ndi/emulator.h"
 #include "capture/ndi/recorded_trajectory.h"
 #include "capture/ndi/trajectory.h"
+#include "cli/parse_args.h"
 #include "cli/commands.h"
 #include "core/check.h"
 
@@ -62,11 +66,21 @@ class TruthWriter {
   std::mutex mutex_;
 };
 
-// A session's tracker stream; tracking time 0 is the session's first stamp (camera or tracker).
+// Recording time of tracking time 0: the first camera frame, so that a replay of the same session's
+// camera started with tracking (fakenect at `capture start`) lines up; without a camera the first stamp.
+int64_t ReplayOriginNs(const SessionReader& session) {
+  std::optional<int64_t> first_frame_ns;
+  for (const CameraStreamInfo& camera : session.manifest().cameras)
+    if (session.frame_count(camera.name) > 0)
+      first_frame_ns = std::min(first_frame_ns.value_or(INT64_MAX), session.frame(camera.name, 0).record.stamp_ns);
+  return first_frame_ns.value_or(capture::FirstStampNs(session));
+}
+
+// A session's tracker stream, played from tracking time 0 (the client's TSTART).
 std::shared_ptr<const ndi::TrajectorySource> ReplayTrajectory(const std::string& session_dir, const std::string& tracker) {
   const SessionReader session = SessionReader::Open(session_dir);
   ndi::RecordedTrajectoryOptions options;
-  options.origin_ns = capture::FirstStampNs(session);
+  options.origin_ns = ReplayOriginNs(session);
   return std::make_shared<ndi::RecordedTrajectory>(capture::RecordedBodies(session, tracker), options);
 }
 
@@ -97,11 +111,13 @@ int RunNdiEmulator(int argc, char** argv) {
   app.add_option("--truth", truth_path, "write every served BX/TX body to this CSV (ground truth)");
   app.add_option("--duration", duration_s, "stop after this many seconds (0: at SIGINT/SIGTERM)");
   app.add_flag("--json", json, "print one JSON document (where it listens) on stdout");
-  CLI11_PARSE(app, argc, argv);
+  MOCAP_PARSE(app, argc, argv);
 
   if (duration_s < 0) throw InputError("--duration", "must not be negative");
   if (bodies < 1 || bodies > 200) throw InputError("--bodies", Str(bodies, " is not in [1, 200]"));
   options.tracker.preloaded_handles = !passive;
+  options.tracker.clock_from_tstart = true;  // a client connecting late still hears frame 1000 and t = 0 first
+  options.log_replay_end = true;
   std::shared_ptr<const ndi::TrajectorySource> trajectory;
   if (!replay_path.empty()) {
     trajectory = ReplayTrajectory(replay_path, replay_tracker);
@@ -148,10 +164,12 @@ int RunNdiEmulator(int argc, char** argv) {
   emulator.Stop();
   if (master >= 0) ::close(master);
   const ndi::EmulatorStats stats = emulator.stats();
-  std::fprintf(stderr, "ndi-emulator: %llu connections, %llu commands, %llu tracking replies, %llu corrupted, %llu errors\n",
+  std::fprintf(stderr, "ndi-emulator: %llu connections, %llu commands, %llu tracking replies, %llu corrupted, %llu errors, "
+               "%llu past the replay's end\n",
                static_cast<unsigned long long>(stats.connections), static_cast<unsigned long long>(stats.commands),
                static_cast<unsigned long long>(stats.tracking_replies),
-               static_cast<unsigned long long>(stats.corrupted_replies), static_cast<unsigned long long>(stats.error_replies));
+               static_cast<unsigned long long>(stats.corrupted_replies), static_cast<unsigned long long>(stats.error_replies),
+               static_cast<unsigned long long>(stats.past_end_replies));
   return 0;
 }
 

@@ -38,7 +38,8 @@ void ParseEndpoint(const YamlMap& map, ndi::NdiClientOptions& client) {
 }
 
 capture::NdiSourceOptions ParseTracker(const YamlDoc& doc, const YAML::Node& node) {
-  const YamlMap map(doc, node, "capture.tracker", {"name", "model", "tcp", "serial", "baud", "rate_hz", "protocol", "tools"});
+  const YamlMap map(doc, node, "capture.tracker",
+                    {"name", "model", "tcp", "serial", "baud", "rate_hz", "protocol", "tools", "replay"});
   capture::NdiSourceOptions t;
   t.stream = map.Get<std::string>("name", t.stream);
   t.model = map.Get<std::string>("model", t.model);
@@ -55,6 +56,7 @@ capture::NdiSourceOptions ParseTracker(const YamlDoc& doc, const YAML::Node& nod
   const std::string protocol = map.Get<std::string>("protocol", "bx");
   if (protocol != "bx" && protocol != "tx") map.Fail("protocol", "must be bx or tx");
   t.client.use_bx = protocol == "bx";
+  t.replay = map.Get<bool>("replay", false);
   if (map.Has("tools")) {
     if (!map["tools"].IsSequence()) map.Fail("tools", "must be a list of {name, rom}");
     for (const auto& tool : map["tools"]) {

@@ -31,6 +31,7 @@ void EmitTracker(YAML::Emitter& out, const capture::NdiSourceOptions& t) {
   out << YAML::Key << "rate_hz" << YAML::Value;
   EmitNumber(out, t.client.poll_rate_hz);
   out << YAML::Key << "protocol" << YAML::Value << (t.client.use_bx ? "bx" : "tx");
+  if (t.replay) out << YAML::Key << "replay" << YAML::Value << true;
   if (!t.client.tools.empty()) {
     out << YAML::Key << "tools" << YAML::Value << YAML::BeginSeq;
     for (const ndi::ToolSpec& tool : t.client.tools)

@@ -16,6 +16,7 @@
 #include "../kinect/subprocess.h"
 #include "../kinect/tum_recording.h"
 #include "capture/kinect/kinect1_depth.h"
+#include "e2e_cli.h"
 #include "process.h"
 #include "session/reader.h"
 #include "test_dirs.h"
@@ -26,32 +27,20 @@ namespace {
 namespace fs = std::filesystem;
 using namespace std::chrono_literals;
 using testing::ChildProcess;
+using testing::Cli;
+using testing::Endpoint;
+using testing::Source;
+using testing::StartDaemon;
+using testing::Status;
 
 constexpr double kTrackerRateHz = 30;
-// 2 s at 30 Hz: the 9 TUM frames over and over. The replay starts when the daemon opens the device,
-// before `capture start` (a process of its own) arrives: on a loaded host that can take a second, and
-// the frames served after it must still be enough to check. Longer would risk the writer falling 32
-// frames behind on such a host, which the test rightly counts as a failure.
+// 2 s at 30 Hz: the 9 TUM frames over and over. The replay starts with `capture start` (the daemon
+// starts replays with the first session). Longer would risk the writer falling 32 frames behind on a
+// loaded host, which the test rightly counts as a failure.
 constexpr int kReplayFrames = 60;
 
-struct Endpoint {
-  std::unique_ptr<ChildProcess> process;
-  int port = 0;
-};
-
-nlohmann::json FirstJsonLine(ChildProcess& process, const std::string& what) {
-  const std::optional<std::string> line = process.ReadLine(30000);  // devices opened first; a loaded host
-  if (!line) throw std::runtime_error(what + " printed nothing; log:\n" + process.Log());
-  return nlohmann::json::parse(*line);
-}
-
 Endpoint StartEmulator(const fs::path& dir, int port, const std::vector<std::string>& extra = {}) {
-  std::vector<std::string> argv = {MOCAPLABEL_EXE, "ndi-emulator", "--port", std::to_string(port), "--json",
-                                   "--rate", std::to_string(kTrackerRateHz), "--truth", (dir / "truth.csv").string()};
-  argv.insert(argv.end(), extra.begin(), extra.end());
-  Endpoint e{std::make_unique<ChildProcess>(argv, std::map<std::string, std::string>{}, dir / "emulator.log")};
-  e.port = FirstJsonLine(*e.process, "ndi-emulator")["port"];
-  return e;
+  return testing::StartEmulator(dir, port, kTrackerRateHz, extra);
 }
 
 fs::path WriteRig(const fs::path& dir, int tracker_port, bool camera) {
@@ -61,36 +50,6 @@ fs::path WriteRig(const fs::path& dir, int tracker_port, bool camera) {
       << "  tracker: {name: ndi, tcp: \"127.0.0.1:" << tracker_port << "\", rate_hz: " << 8 * kTrackerRateHz << "}\n";
   if (camera) out << "  camera: {name: kinect1, index: 0}\n";
   return rig;
-}
-
-Endpoint StartDaemon(const fs::path& rig, const std::map<std::string, std::string>& env) {
-  Endpoint d{std::make_unique<ChildProcess>(
-      std::vector<std::string>{MOCAPLABEL_EXE, "capture", "daemon", "--rig", rig.string(), "--port", "0", "--json"}, env,
-      rig.parent_path() / "daemon.log")};
-  d.port = FirstJsonLine(*d.process, "capture daemon")["port"];
-  return d;
-}
-
-// Runs `mocaplabel ARGS... --json`; returns its exit status and JSON answer.
-std::pair<int, nlohmann::json> Cli(const fs::path& dir, std::vector<std::string> args) {
-  args.insert(args.begin(), MOCAPLABEL_EXE);
-  args.push_back("--json");
-  ChildProcess cli(args, {}, dir / "cli.log");
-  std::string out;  // the whole of stdout: one JSON document, possibly over several lines
-  while (const std::optional<std::string> line = cli.ReadLine(30000)) out += *line + "\n";
-  const std::optional<int> status = cli.Wait(30000);
-  return {status.value_or(-1), nlohmann::json::parse(out, nullptr, false)};
-}
-
-nlohmann::json Status(const fs::path& dir, int port) {
-  return Cli(dir, {"capture", "status", "--port", std::to_string(port)}).second;
-}
-
-nlohmann::json Source(const nlohmann::json& status, const std::string& name) {
-  if (!status.is_object() || !status.contains("sources")) return nlohmann::json::object();  // a failed poll
-  for (const auto& s : status["sources"])
-    if (s["name"] == name) return s["device"];
-  return nlohmann::json::object();
 }
 
 struct TruthRow {
@@ -149,6 +108,7 @@ void ExpectCameraMatchesReplay(const SessionReader& reader, const std::vector<te
   for (size_t k = 0; k < recorded.size(); ++k)
     if (static_cast<int64_t>(recorded[k].ticks) == reader.frame("kinect1", 0).record.device_ticks) first = static_cast<int64_t>(k);
   ASSERT_GE(first, 0) << "the first frame's device ticks are not in the recording";
+  EXPECT_EQ(first, 0) << "the replay did not start with the session";
   // Every frame the replay served after `start` is in the session, in order, once.
   ASSERT_EQ(n, kReplayFrames - first);
   for (int64_t i = 0; i < n; ++i) {

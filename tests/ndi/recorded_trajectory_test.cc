@@ -75,6 +75,65 @@ TEST(RecordedTrajectory, EmulatorServesTheRecordedPoseAndVolumeStatus) {
   EXPECT_EQ(hidden.status, HandleStatus::kMissing) << "out of volume without reply option 0x0800 is MISSING";
 }
 
+// BX through the protocol: INIT, TSTART at caller time `tstart_s`, BX at `bx_s`.
+EmulatorReply BxAfterTstart(EmulatedTracker& tracker, double tstart_s, double bx_s) {
+  tracker.Handle(FrameCommand("INIT:"), 0);
+  tracker.Handle(FrameCommand("PINIT:01"), 0);
+  tracker.Handle(FrameCommand("PENA:01D"), 0);
+  tracker.Handle(FrameCommand("TSTART:"), tstart_s);
+  return tracker.Handle(FrameCommand("BX:0801"), bx_s);
+}
+
+HandleReport OnlyHandle(const EmulatorReply& reply) {
+  EXPECT_TRUE(reply.tracking_data);
+  EXPECT_EQ(reply.served.handles.size(), 1u);
+  return reply.served.handles.empty() ? HandleReport{} : reply.served.handles.front();
+}
+
+// `mocaplabel ndi-emulator --replay`: a client that connects 15 s after the emulator started still hears
+// the recording from its start (before: tracking time was the emulator's, every body MISSING).
+TEST(RecordedTrajectory, ClockFromTstartPlaysTheRecordingFromTheClientsTstart) {
+  auto trajectory = std::make_shared<RecordedTrajectory>(Example(0));
+  EmulatedTracker tracker({.rate_hz = 100, .clock_from_tstart = true}, trajectory);
+  const EmulatorReply reply = BxAfterTstart(tracker, 15.0, 15.1125);
+  const HandleReport h = OnlyHandle(reply);
+  EXPECT_EQ(h.frame_number, 1011u) << "frame numbers count from TSTART";
+  ASSERT_EQ(h.status, HandleStatus::kValid);
+  EXPECT_NEAR(h.t_mm[0], 110.0, 1e-6);
+  EXPECT_FALSE(reply.past_end);
+  EXPECT_DOUBLE_EQ(tracker.TrackingTime(15.5), 0.5);
+
+  EmulatedTracker emulator_clock({.rate_hz = 100}, trajectory);  // in process: the caller's clock as is
+  EXPECT_EQ(OnlyHandle(BxAfterTstart(emulator_clock, 15.0, 15.1125)).status, HandleStatus::kMissing);
+}
+
+// The emulator's connections share the clock: a client that loses its connection and comes back
+// (INIT, TSTART, no TSTOP) continues it, frame numbers go on; after a TSTOP the next TSTART starts at 0.
+TEST(RecordedTrajectory, TrackingClockContinuesOverAReconnectAndRestartsAfterTstop) {
+  auto trajectory = std::make_shared<ScriptedTrajectory>(DefaultTrajectoryScript(1));
+  auto clock = std::make_shared<TrackingClock>();
+  EmulatedTracker first({.rate_hz = 100, .clock_from_tstart = true}, trajectory, clock);
+  EXPECT_EQ(OnlyHandle(BxAfterTstart(first, 10.0, 10.5)).frame_number, 1050u);
+  EmulatedTracker again({.rate_hz = 100, .clock_from_tstart = true}, trajectory, clock);  // a reconnect
+  EXPECT_EQ(OnlyHandle(BxAfterTstart(again, 12.0, 12.05)).frame_number, 1205u) << "the clock went on";
+  again.Handle(FrameCommand("TSTOP:"), 13.0);
+  EXPECT_DOUBLE_EQ(clock->Since(14.0), 0.0) << "stopped";
+  again.Handle(FrameCommand("TSTART:"), 20.0);
+  EXPECT_EQ(OnlyHandle(again.Handle(FrameCommand("BX:0801"), 20.1)).frame_number, 1010u) << "restarted by TSTART";
+}
+
+TEST(RecordedTrajectory, RepliesPastTheRecordingsEndAreFlagged) {
+  auto trajectory = std::make_shared<RecordedTrajectory>(Example(0));
+  ASSERT_TRUE(trajectory->end_s());
+  EXPECT_NEAR(*trajectory->end_s(), 0.220, 1e-12);
+  EmulatedTracker tracker({.rate_hz = 100, .clock_from_tstart = true}, trajectory);
+  EXPECT_FALSE(BxAfterTstart(tracker, 1.0, 1.2).past_end);
+  const EmulatorReply after = tracker.Handle(FrameCommand("BX:0801"), 1.25);
+  EXPECT_TRUE(after.past_end);
+  EXPECT_EQ(OnlyHandle(after).status, HandleStatus::kMissing);
+  EXPECT_FALSE(ScriptedTrajectory(DefaultTrajectoryScript(1)).end_s()) << "a script never ends";
+}
+
 TEST(RecordedTrajectory, RefusesUnsortedDuplicateOrNoBodies) {
   EXPECT_THROW(RecordedTrajectory({}, {}), InputError);
   RecordedBody unsorted{"a", {Sample(20 * kMs, 0), Sample(10 * kMs, 0)}};

@@ -70,7 +70,7 @@ TEST(Rig, StrictReaderNamesFileLineAndKey) {
 
 TEST(Rig, WrittenAndReadBackIsTheSameRig) {
   const std::string text = kRig + "capture:\n  sessions_dir: sessions\n  control: {bind: 127.0.0.1, port: 8790}\n"
-                                  "  tracker: {name: ndi, tcp: '10.0.0.5:8765', rate_hz: 60, tools: [{name: wand, rom: w.rom}]}\n"
+                                  "  tracker: {name: ndi, tcp: '10.0.0.5:8765', rate_hz: 60, replay: true, tools: [{name: wand, rom: w.rom}]}\n"
                                   "  camera: {name: kinect1, index: 1}\n";
   const pipeline::Rig rig = pipeline::ParseRig(text, "rig.yaml");
   const std::string emitted = pipeline::EmitRig(rig);
@@ -83,6 +83,7 @@ TEST(Rig, WrittenAndReadBackIsTheSameRig) {
   EXPECT_EQ(again.capture->control.port, 8790);
   EXPECT_EQ(again.capture->tracker->client.host, "10.0.0.5");
   EXPECT_EQ(again.capture->tracker->client.tools.at(0).rom_path, "w.rom");
+  EXPECT_TRUE(again.capture->tracker->replay);
   EXPECT_EQ(again.capture->camera->device.device_index, 1);
 }
 
