@@ -4,7 +4,7 @@ ASAN_DIR  ?= build-asan
 JOBS      ?= $(shell nproc)
 CMAKE_FLAGS ?=
 
-.PHONY: all deps configure build build-cli build-asan demo test test-unit test-asan bench clean
+.PHONY: all deps configure build build-cli build-asan demo test test-unit test-asan bench fuzz clean
 
 all: build
 
@@ -47,6 +47,13 @@ test: test-unit test-asan
 
 bench: build
 	@for b in $(BUILD_DIR)/bench/bench_*; do echo "== $$b"; $$b; done
+
+# Every fuzzer of tests/fuzz (docs/fuzzing.md) for FUZZ_SECONDS each, JOBS at a time, with clang++; the
+# corpora grow and stay in $(BUILD_DIR)/tests/fuzz/work/<name>/corpus, crash reproducers beside them.
+FUZZ_SECONDS ?= 300
+fuzz: configure
+	@cmake --build $(BUILD_DIR) -j $(JOBS) --target mocap_fuzz_prereqs
+	FUZZ_SECONDS=$(FUZZ_SECONDS) FUZZ_JOBS=$(JOBS) FUZZ_KEEP_CORPUS=1 tests/fuzz/fuzz.sh $(BUILD_DIR) all
 
 clean:
 	rm -rf $(BUILD_DIR) $(ASAN_DIR)

@@ -1,7 +1,10 @@
 // EncodeScenarioYaml: the YAML form of a scenario, readable by ParseScenarioYaml (round trip tested).
 #include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <iomanip>
+#include <set>
 #include <sstream>
 
 #include "cli/scenario_yaml.h"
@@ -25,6 +28,34 @@ std::string List(std::initializer_list<double> values, int decimals) {
   }
   out << "]";
   return out.str();
+}
+
+/// `text` as a YAML scalar that reads back as exactly `text`, in block and flow context alike: plain
+/// when it is a simple word (every name the simulator ships), else double-quoted with '"', '\\' and
+/// control bytes escaped (a name holding a newline or ": " once made the written file unreadable).
+std::string Scalar(const std::string& text) {
+  static const std::set<std::string> kWords = {"true", "false", "yes", "no", "on", "off", "y", "n", "null"};
+  std::string lower = text;
+  std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return std::tolower(c); });
+  const bool word = !text.empty() && (std::isalpha(static_cast<unsigned char>(text[0])) || text[0] == '_') &&
+                    std::all_of(text.begin(), text.end(), [](unsigned char c) {
+                      return std::isalnum(c) || c == '_' || c == '-' || c == '.' || c == '/';
+                    });
+  if (word && !kWords.count(lower)) return text;
+  std::string quoted = "\"";
+  for (const unsigned char c : text) {
+    if (c == '"' || c == '\\') {
+      quoted += '\\';
+      quoted += static_cast<char>(c);
+    } else if (c < 0x20 || c == 0x7f) {
+      char escape[8];
+      std::snprintf(escape, sizeof(escape), "\\x%02x", c);
+      quoted += escape;
+    } else {
+      quoted += static_cast<char>(c);
+    }
+  }
+  return quoted + "\"";
 }
 
 std::string Vec(const Eigen::Vector3d& v, int decimals = 6) { return List({v.x(), v.y(), v.z()}, decimals); }
@@ -58,7 +89,7 @@ std::string EncodeScenarioYaml(const sim::Scenario& s) {
   out << std::setprecision(10);
   out << "# Simulation scenario (format: docs/simulation.md). Poses: translation in metres, rpy_deg =\n"
          "# roll, pitch, yaw in degrees with R = Rz(yaw) * Ry(pitch) * Rx(roll); world z up, floor at z = 0.\n";
-  out << "name: " << o.name << "\nseed: " << o.seed << "\nframe_rate_hz: " << o.frame_rate_hz << "\nframe_count: " << o.frame_count
+  out << "name: " << Scalar(o.name) << "\nseed: " << o.seed << "\nframe_rate_hz: " << o.frame_rate_hz << "\nframe_count: " << o.frame_count
       << "\nstart_s: " << o.start_s << "\nsensor: " << sim::ToString(o.sensor) << "\n";
   const sim::TrackerOptions& t = o.tracker;
   out << "tracker:\n  rate_hz: " << t.rate_hz << "\n  latency_ms: " << t.latency_ms << "\n  noise_rms_mm: " << t.noise_rms_mm
@@ -90,17 +121,17 @@ std::string EncodeScenarioYaml(const sim::Scenario& s) {
     Keyframes(out, c.handheld, "    ");
   }
   out << "  shake_mm: " << c.handheld_shake_mm << "\n  shake_deg: " << c.handheld_shake_deg << "\n  tracker_body:\n    name: "
-      << s.camera_body.name << "\n    markers_m:\n";
+      << Scalar(s.camera_body.name) << "\n    markers_m:\n";
   for (const auto& m : s.camera_body.markers_m) out << "      - " << Vec(m, 4) << "\n";
   out << "    marker_normal: " << Vec(s.camera_body.normal_body) << "\n  T_cambody_camera: " << Pose(s.T_cambody_camera) << "\n";
   out << "objects:\n";
   for (const auto& obj : s.objects) {
-    out << "  - name: " << obj.name << "\n    keyframes:\n";
+    out << "  - name: " << Scalar(obj.name) << "\n    keyframes:\n";
     Keyframes(out, obj.motion, "      ");
   }
   out << "occluders:" << (s.occluders.empty() ? " []" : "") << "\n";
   for (const auto& occ : s.occluders) {
-    out << "  - name: " << occ.name << "\n    mesh: " << occ.mesh << "\n    box_center_m: " << Vec(occ.box_center_m)
+    out << "  - name: " << Scalar(occ.name) << "\n    mesh: " << Scalar(occ.mesh) << "\n    box_center_m: " << Vec(occ.box_center_m)
         << "\n    box_half_extents_m: " << Vec(occ.box_half_extents_m) << "\n    keyframes:\n";
     Keyframes(out, occ.motion, "      ");
   }
@@ -108,7 +139,8 @@ std::string EncodeScenarioYaml(const sim::Scenario& s) {
   out << "errors:\n  camera_mount: {translation_m: " << Vec(e.camera_mount_translation_m)
       << ", rotation_deg: " << Vec(e.camera_mount_rotation_deg) << "}\n  object_mounts:" << (e.object_mounts.empty() ? " []" : "") << "\n";
   for (const auto& m : e.object_mounts)
-    out << "    - {object: " << m.object << ", translation_m: " << Vec(m.translation_m) << ", rotation_deg: " << Vec(m.rotation_deg) << "}\n";
+    out << "    - {object: " << Scalar(m.object) << ", translation_m: " << Vec(m.translation_m)
+        << ", rotation_deg: " << Vec(m.rotation_deg) << "}\n";
   out << "  latency_ms: " << e.latency_ms << "\n  focal_scale: " << e.focal_scale
       << "\n  principal_point_px: " << List({e.principal_point_px.x(), e.principal_point_px.y()}, 3) << "\n";
   return out.str();

@@ -9,6 +9,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "core/check.h"
+#include "render/mesh_file_check.h"
 
 namespace mocap {
 namespace {
@@ -43,6 +44,8 @@ void AppendMesh(const aiMesh& in, double scale, Mesh& out) {
   const bool colors = in.HasVertexColors(0), uvs = in.HasTextureCoords(0);
   for (unsigned i = 0; i < in.mNumVertices; ++i) {
     const aiVector3D& p = in.mVertices[i];
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+      throw InputError(out.source, Str("vertex ", i, " has a non-finite coordinate (", p.x, ", ", p.y, ", ", p.z, ")"));
     out.positions_m.emplace_back(static_cast<float>(p.x * scale), static_cast<float>(p.y * scale),
                                  static_cast<float>(p.z * scale));
     if (colors) out.colors.emplace_back(in.mColors[0][i].r, in.mColors[0][i].g, in.mColors[0][i].b, in.mColors[0][i].a);
@@ -119,6 +122,7 @@ Mesh LoadMesh(const std::string& path, double unit_scale_to_m, const MeshLoadOpt
   options.check();
   if (!(unit_scale_to_m > 0)) throw InputError(path, Str("unit scale ", unit_scale_to_m, " must be positive"));
   if (!std::filesystem::is_regular_file(path)) throw InputError(path, "mesh file not found");
+  CheckMeshFile(path);  // assimp crashes on some truncated or inconsistent files; refuse them first
   Assimp::Importer importer;
   const aiScene* scene = importer.ReadFile(path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
                                                      aiProcess_PreTransformVertices | aiProcess_SortByPType);

@@ -18,6 +18,9 @@ namespace {
 
 constexpr size_t kBytesPerPixel = 2;                     // one 16-bit sample
 constexpr uint64_t kMaxScanlineBytes = uint64_t{1} << 30;  // refuses absurd headers before allocating
+// Deflate expands at most 1032:1 (zlib's FAQ): image data that cannot inflate to the size IHDR declares is
+// refused before the scanline buffer is allocated, so a corrupt 100-byte file cannot cost a gigabyte.
+constexpr uint64_t kMaxDeflateRatio = 1032;
 
 libdeflate_decompressor& Decompressor() {
   struct Free {
@@ -144,10 +147,13 @@ std::optional<Image<float>> DecodeGray16Png(std::span<const uint8_t> png, double
   const uint64_t total = (1 + row_bytes) * chunks.height;
   if (total > kMaxScanlineBytes)
     throw InputError(where, Str("PNG of ", chunks.width, "x", chunks.height, " is larger than this decoder takes"));
+  const std::span<const uint8_t> data = chunks.image_data();
+  if (total > kMaxDeflateRatio * data.size())
+    throw InputError(where, Str("PNG image data is corrupt: ", data.size(), " bytes cannot inflate to the ", total,
+                                " bytes of a ", chunks.width, "x", chunks.height, " image"));
   thread_local std::vector<uint8_t> scanlines;  // reused: no fresh pages to fault in per frame
   scanlines.resize(total);
   size_t inflated = 0;
-  const std::span<const uint8_t> data = chunks.image_data();
   const libdeflate_result result =
       libdeflate_zlib_decompress(&Decompressor(), data.data(), data.size(), scanlines.data(), scanlines.size(), &inflated);
   if (result != LIBDEFLATE_SUCCESS || inflated != total)

@@ -7,6 +7,7 @@
 namespace mocap::import {
 namespace {
 
+using ::testing::AllOf;
 using ::testing::HasSubstr;
 using testing::InputErrorOf;
 using testing::ReadAll;
@@ -120,6 +121,11 @@ TEST(BopScene, BadScenesAreRefusedWithTheirPlace) {
   {
     TinyScene unknown(R"({"1": [{"cam_R_m2c": [1,0,0,0,1,0,0,0,1], "cam_t_m2c": [0,0,900], "obj_id": 4}]})", kCam);
     EXPECT_THAT(InputErrorOf([&] { ReadBopScene(unknown.scene, unknown.models); }), HasSubstr("obj_id 4 is not in models_info"));
+  }
+  {  // found by tests/fuzz (fuzz_bop): nlohmann's number overflow escaped as a bare out_of_range exception
+    TinyScene overflow(R"({"1": [{"cam_R_m2c": [1,0,0,0,1,0,0,0,1], "cam_t_m2c": [0,0,9e999], "obj_id": 1}]})", kCam);
+    EXPECT_THAT(InputErrorOf([&] { ReadBopScene(overflow.scene, overflow.models); }),
+                AllOf(HasSubstr("scene_gt.json: invalid JSON"), HasSubstr("number overflow")));
   }
   {
     TinyScene skew(kTwoInstances, R"({"1": {"cam_K": [500, 3, 2, 0, 500, 1.5, 0, 0, 1], "depth_scale": 1}})");

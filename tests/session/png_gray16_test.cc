@@ -173,6 +173,16 @@ TEST(PngGray16, CorruptFilesAreRefusedWithTheReason) {
   EXPECT_NE(ErrorOf(shorter).find("more data than its size"), std::string::npos);
 }
 
+// Found by tests/fuzz (fuzz_png): a 100-byte file declaring 16384 x 16384 pixels made the decoder allocate
+// and zero 512 MiB before finding its data too short.
+TEST(PngGray16, TinyDataForAHugeSizeIsRefusedBeforeAllocating) {
+  std::vector<uint8_t> huge = PngOfScanlines(8, 2, std::vector<uint8_t>(2 * 17, 0));
+  PutU32(&huge[8 + 8], 16384), PutU32(&huge[8 + 8 + 4], 16384);
+  PutU32(&huge[8 + 8 + 13], static_cast<uint32_t>(libdeflate_crc32(0, &huge[8 + 4], 17)));
+  const std::string error = ErrorOf(huge);
+  EXPECT_NE(error.find("cannot inflate to the 536887296 bytes of a 16384x16384 image"), std::string::npos) << error;
+}
+
 TEST(PngGray16, UnknownFilterTypeIsRefused) {
   std::vector<uint8_t> scanlines(2 * 17, 0);
   scanlines[17] = 7;  // second row: filter type 7 does not exist

@@ -112,6 +112,25 @@ TEST(ScenarioYaml, BadInputNamesFileAndLine) {
 namespace mocap::cli {
 namespace {
 
+// Found by tests/fuzz (fuzz_yaml): names were written unquoted, so a name holding a newline or ": " (or one
+// that reads as another type) made the written scenario unreadable.
+TEST(ScenarioYaml, AnyNameIsWrittenSoThatItReadsBack) {
+  sim::Scenario s = sim::DefaultScenario();
+  s.options.name = "handheld-kine\namect: \"x\" \\ \t #y";
+  s.camera_body.name = "true";
+  s.objects.at(0).name = "- [a, {b}]";
+  s.occluders.at(0).mesh = "box, with: comma";
+  s.options.errors.object_mounts.push_back({"{x}: y", Eigen::Vector3d(0.001, 0, 0), Eigen::Vector3d::Zero()});
+  const std::string written = EncodeScenarioYaml(s);
+  const sim::Scenario read = ParseScenarioYaml(written, "written.yaml");
+  EXPECT_EQ(read.options.name, s.options.name);
+  EXPECT_EQ(read.camera_body.name, "true");
+  EXPECT_EQ(read.objects.at(0).name, s.objects.at(0).name);
+  EXPECT_EQ(read.occluders.at(0).mesh, s.occluders.at(0).mesh);
+  EXPECT_EQ(read.options.errors.object_mounts.at(0).object, "{x}: y");
+  EXPECT_EQ(EncodeScenarioYaml(read), written);
+}
+
 TEST(ScenarioYaml, TheExampleInTheDocsIsValid) {
   const std::string doc = ReadText(std::filesystem::path(MOCAP_SOURCE_DIR) / "docs" / "simulation.md");
   const size_t begin = doc.find("```yaml\n");

@@ -26,6 +26,8 @@ json ReadJson(const std::filesystem::path& file) {
     return json::parse(text);
   } catch (const json::parse_error& e) {
     throw InputError(Str(file.string(), ": byte ", e.byte), Str("invalid JSON: ", QuoteForMessage(e.what(), 200)));
+  } catch (const json::exception& e) {  // a number beyond double's range (out_of_range.406), found by tests/fuzz
+    throw InputError(file.string(), Str("invalid JSON: ", QuoteForMessage(e.what(), 200)));
   }
 }
 
