@@ -19,22 +19,24 @@
 namespace mocap {
 namespace mesh_check {
 
-/// A number in a text mesh file; a leading '+' is allowed, "nan" and "inf" parse (callers refuse them).
-std::optional<double> ParseNumber(std::string_view token) {
+namespace {
+
+/// The whole token as a T (from_chars), a leading '+' allowed.
+template <typename T>
+std::optional<T> ParseWhole(std::string_view token) {
   if (!token.empty() && token.front() == '+') token.remove_prefix(1);
-  double value = 0;
+  T value = 0;
   const auto [end, error] = std::from_chars(token.data(), token.data() + token.size(), value);
   if (error != std::errc() || end != token.data() + token.size()) return std::nullopt;
   return value;
 }
 
-std::optional<int64_t> ParseInteger(std::string_view token) {
-  if (!token.empty() && token.front() == '+') token.remove_prefix(1);
-  int64_t value = 0;
-  const auto [end, error] = std::from_chars(token.data(), token.data() + token.size(), value);
-  if (error != std::errc() || end != token.data() + token.size()) return std::nullopt;
-  return value;
-}
+}  // namespace
+
+/// A number in a text mesh file; a leading '+' is allowed, "nan" and "inf" parse (callers refuse them).
+std::optional<double> ParseNumber(std::string_view token) { return ParseWhole<double>(token); }
+
+std::optional<int64_t> ParseInteger(std::string_view token) { return ParseWhole<int64_t>(token); }
 
 std::vector<std::string_view> SplitTokens(std::string_view line) {
   std::vector<std::string_view> tokens;

@@ -3,7 +3,6 @@
 #include <fcntl.h>
 #include <unistd.h>
 
-#include <algorithm>
 #include <cerrno>
 #include <cstring>
 
@@ -81,7 +80,6 @@ AppendFile::~AppendFile() {
 void AppendFile::Append(std::string_view bytes) {
   dirty_ = true;
   WriteAll(fd_, bytes, path_);
-  lines_appended_ += std::count(bytes.begin(), bytes.end(), '\n');
 }
 
 void AppendFile::Sync() {

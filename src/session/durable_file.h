@@ -2,7 +2,6 @@
 // POSIX file primitives with the durability the session format promises. Every failure throws
 // InputError naming the file and the system error (e.g. "No space left on device").
 #include <atomic>
-#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <string_view>
@@ -37,14 +36,11 @@ class AppendFile {
   /// the next call).
   void Sync();
   const std::filesystem::path& path() const { return path_; }
-  /// Newline characters appended through this object (records, for a JSON-lines file).
-  int64_t lines_appended() const { return lines_appended_; }
 
  private:
   std::filesystem::path path_;
   int fd_ = -1;
   std::atomic<bool> dirty_ = false;
-  std::atomic<int64_t> lines_appended_ = 0;
 };
 
 }  // namespace mocap

@@ -45,18 +45,15 @@ std::string FormatSessionStats(const SessionStats& stats) {
   if (stats.frames_with_pose) Append(&out, ", with a camera pose: %lld", static_cast<long long>(*stats.frames_with_pose));
   Append(&out, "; missing image files: %zu\n", stats.missing_files.size());
   for (const auto& camera : stats.cameras) {
-    if (camera.frames_subset) {  // no rate and no drops: the frames were chosen, not streamed
-      Append(&out, "camera %s: %lld records, a chosen subset of the recording's frames, colour %lld/%lld present, "
-             "depth %lld/%lld present\n", camera.name.c_str(), static_cast<long long>(camera.records),
-             static_cast<long long>(camera.color_present), static_cast<long long>(camera.color_listed),
-             static_cast<long long>(camera.depth_present), static_cast<long long>(camera.depth_listed));
-      continue;
-    }
-    Append(&out, "camera %s: %lld records, colour %lld/%lld present, depth %lld/%lld present, %s, %lld dropped\n",
-           camera.name.c_str(), static_cast<long long>(camera.records), static_cast<long long>(camera.color_present),
+    Append(&out, "camera %s: %lld records, colour %lld/%lld present, depth %lld/%lld present, ", camera.name.c_str(),
+           static_cast<long long>(camera.records), static_cast<long long>(camera.color_present),
            static_cast<long long>(camera.color_listed), static_cast<long long>(camera.depth_present),
-           static_cast<long long>(camera.depth_listed), Timing(camera.timing, gap_limit_s).c_str(),
-           static_cast<long long>(camera.dropped_frames));
+           static_cast<long long>(camera.depth_listed));
+    if (camera.frames_subset)  // no rate and no drops: the frames were chosen, not streamed
+      Append(&out, "a chosen subset of the recording's frames\n");
+    else
+      Append(&out, "%s, %lld dropped\n", Timing(camera.timing, gap_limit_s).c_str(),
+             static_cast<long long>(camera.dropped_frames));
     for (const auto& [failure, count] : camera.pose_failures)
       Append(&out, "  no camera pose (%s): %lld frames\n", failure.c_str(), static_cast<long long>(count));
   }

@@ -113,6 +113,7 @@ struct SessionWriter::Impl {
   bool stopping = false;
   bool closed = false;
   std::mutex commit_mutex;  ///< serialises appends, so they follow submission order
+  std::map<const AppendFile*, int64_t> records_appended;  ///< per stream file; guarded by commit_mutex
   std::vector<std::thread> threads;
 
   void EncoderLoop();
@@ -181,6 +182,7 @@ void SessionWriter::Impl::Commit() {
     try {
       batch[i]->file->Append(bytes);
       appended += static_cast<int64_t>(n);
+      records_appended[batch[i]->file] += static_cast<int64_t>(n);
     } catch (...) {
       failure = std::current_exception();
     }
@@ -408,8 +410,12 @@ void SessionWriter::Close() {
   impl_->threads.clear();
   impl_->ThrowIfFailed();
   impl_->SyncAll();
-  for (const auto& [name, file] : impl_->files)
-    impl_->manifest.stream_records[fs::relative(file->path(), impl_->dir).generic_string()] = file->lines_appended();
+  {
+    std::lock_guard commit_lock(impl_->commit_mutex);
+    for (const auto& [name, file] : impl_->files)
+      impl_->manifest.stream_records[fs::relative(file->path(), impl_->dir).generic_string()] =
+          impl_->records_appended[file.get()];
+  }
   impl_->manifest.complete = true;
   SaveManifest(impl_->dir, impl_->manifest);
 }

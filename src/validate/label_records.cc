@@ -29,19 +29,18 @@ Stat ComputeStat(std::vector<double> values) {
 
 namespace {
 
-/// One sentence for a run where no record could be checked: the commonest bad-input reason, with the
-/// first record's own explanation of it.
-std::string WhyNothingChecked(const std::vector<RecordCheck>& records, int64_t total_records) {
+/// One sentence for a run where no record could be checked: the commonest reason (of `reasons`, the
+/// summary's counts), with the first record's own explanation of it.
+std::string WhyNothingChecked(const std::vector<RecordCheck>& records, int64_t total_records,
+                              const std::map<std::string, int64_t>& reasons) {
   if (total_records == 0) return "the label run has no records";
   if (records.empty()) return Str("none of the ", total_records, " label records has a pose");
-  std::map<VerdictReason, int64_t> counts;
-  for (const RecordCheck& r : records) ++counts[r.check.reason_code];
-  const auto commonest = std::max_element(counts.begin(), counts.end(),
+  const auto commonest = std::max_element(reasons.begin(), reasons.end(),
                                           [](const auto& a, const auto& b) { return a.second < b.second; });
   const auto example = std::find_if(records.begin(), records.end(),
-                                    [&](const RecordCheck& r) { return r.check.reason_code == commonest->first; });
-  return Str(commonest->second, " of ", records.size(), " records with a pose had unusable input (",
-             ToString(commonest->first), ": ", example->check.reason, ")");
+                                    [&](const RecordCheck& r) { return ToString(r.check.reason_code) == commonest->first; });
+  return Str(commonest->second, " of ", records.size(), " records with a pose had unusable input (", commonest->first,
+             ": ", example->check.reason, ")");
 }
 
 }  // namespace
@@ -73,7 +72,7 @@ ValidationSummary Summarise(const std::vector<RecordCheck>& records, int64_t tot
     }
   }
   s.segicp_success_rate = s.records_checked > 0 ? static_cast<double>(successes) / s.records_checked : 0.0;
-  if (s.records_checked == 0) s.nothing_checked_why = WhyNothingChecked(records, total_records);
+  if (s.records_checked == 0) s.nothing_checked_why = WhyNothingChecked(records, total_records, s.reasons);
   s.position_error_mm = ComputeStat(position);
   s.rotation_axis_error_deg = ComputeStat(axis);
   s.rotation_angle_error_deg = ComputeStat(angle);

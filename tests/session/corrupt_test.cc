@@ -41,6 +41,13 @@ fs::path MakeSession(const TempDir& tmp) {
   return dir;
 }
 
+/// The offset just past the `n`th newline of `bytes`.
+size_t EndOfLine(const std::string& bytes, int n) {
+  size_t pos = 0;
+  for (int i = 0; i < n; ++i) pos = bytes.find('\n', pos) + 1;
+  return pos;
+}
+
 /// What a crash leaves: the manifest as written at Create (not complete, no record counts).
 void MarkIncomplete(const fs::path& dir) {
   nlohmann::json manifest = nlohmann::json::parse(ReadAll(dir / "manifest.json"));
@@ -79,11 +86,7 @@ TEST(RecordFile, TruncatedMidRecordDropsOnlyTheTornTail) {
   MarkIncomplete(dir);
   const fs::path events = dir / "events.jsonl";
   const std::string bytes = ReadAll(events);
-  const size_t ninth_end = [&] {
-    size_t pos = 0;
-    for (int i = 0; i < 9; ++i) pos = bytes.find('\n', pos) + 1;
-    return pos;
-  }();
+  const size_t ninth_end = EndOfLine(bytes, 9);
   for (size_t cut : {ninth_end + 1, ninth_end + 20, bytes.size() - 2, bytes.size() - 1}) {
     WriteAll(events, bytes.substr(0, cut));
     const SessionReader reader = SessionReader::Open(dir);
@@ -137,11 +140,7 @@ TEST(RecordFile, AStreamCutAfterACleanCloseIsAnError) {
   EXPECT_EQ(nlohmann::json::parse(ReadAll(dir / "manifest.json"))["stream_records"]["events.jsonl"], 10);
   const fs::path events = dir / "events.jsonl";
   const std::string bytes = ReadAll(events);
-  const size_t fifth_end = [&] {
-    size_t pos = 0;
-    for (int i = 0; i < 5; ++i) pos = bytes.find('\n', pos) + 1;
-    return pos;
-  }();
+  const size_t fifth_end = EndOfLine(bytes, 5);
   WriteAll(events, bytes.substr(0, fifth_end));
   EXPECT_THAT(ErrorOf([&] { SessionReader::Open(dir); }),
               AllOf(HasSubstr("events.jsonl"), HasSubstr("holds 5 whole records"), HasSubstr("closed with 10")));
