@@ -14,6 +14,7 @@ const std::vector<Command>& AllCommands() {
       {"sim", "simulated rig: object meshes, scenario checks", RunSim},
       {"demo", "the whole tool on the simulated rig: simulate, label, score against the truth", RunDemo},
       {"devices", "list attached Kinects, serial adapters and network trackers", RunDevices},
+      {"export", "export labelled sessions as a dataset: BOP, COCO with poses, segmentation pairs, TUM", RunExport},
       {"validate", "check every label against the measured depth (SegICP): verdicts and a report", RunValidate},
       {"capture", "capture daemon and its control: daemon, start, stop, status", RunCapture},
   };

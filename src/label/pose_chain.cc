@@ -57,6 +57,7 @@ PoseChain::PoseChain(const SessionReader& session, const std::string& camera, co
     if (!session.TrackerOfBody(body))
       throw InputError(session.dir().string(), Str("camera body '", body, "' is reported by no tracker in the session"));
     AddBody(session, body);
+    camera_world_ = WorldNode(session, *session.TrackerOfBody(body));
     graph_.AddFixed(BodyNode(body), CameraNode(),
                     rig_camera && rig_camera->T_body_camera ? *rig_camera->T_body_camera : info->T_body_camera);
   }
@@ -104,6 +105,13 @@ InstancePose PoseChain::Lookup(size_t index, int64_t frame_stamp_ns) const {
       out.flags.push_back("fast_motion");
   }
   return out;
+}
+
+std::optional<Rigid3d> PoseChain::TrackerCameraPose(int64_t frame_stamp_ns) const {
+  if (camera_world_.empty() || camera_world_ == CameraNode()) return std::nullopt;
+  const FrameLookup at = graph_.Lookup(camera_world_, CameraNode(), frame_stamp_ns + latency_ns_);
+  if (!at.ok()) return std::nullopt;
+  return at.T_a_b;
 }
 
 }  // namespace mocap

@@ -52,6 +52,9 @@ class PoseChain {
   const std::vector<LabelInstance>& instances() const { return instances_; }
   /// T_camera_mesh of instance `index` for the camera frame stamped `frame_stamp_ns`.
   InstancePose Lookup(size_t index, int64_t frame_stamp_ns) const;
+  /// T_<tracker frame>_camera (colour optical frame) for the frame stamped `frame_stamp_ns`, through the
+  /// same rig (mount, latency) as the labels; empty when the camera is not tracked or the lookup fails.
+  std::optional<Rigid3d> TrackerCameraPose(int64_t frame_stamp_ns) const;
 
  private:
   std::string WorldNode(const SessionReader& session, const std::string& tracker) const;
@@ -59,6 +62,7 @@ class PoseChain {
   void AddBody(const SessionReader& session, const std::string& body);
 
   std::string camera_name_;
+  std::string camera_world_;  ///< the world node of the camera body's tracker ("" when not tracked)
   PinholeCamera camera_;
   PoseChainOptions options_;
   int64_t latency_ns_ = 0;

@@ -5,6 +5,9 @@
 
 #include <cerrno>
 #include <cstring>
+#include <fstream>
+#include <iterator>
+#include <system_error>
 
 #include "core/check.h"
 
@@ -85,6 +88,31 @@ void AppendFile::Append(std::string_view bytes) {
 void AppendFile::Sync() {
   if (!dirty_.exchange(false)) return;
   if (::fdatasync(fd_) != 0) ThrowErrno(path_, "fdatasync", errno);
+}
+
+bool LinkOrCopyFile(const fs::path& source, const fs::path& path) {
+  const fs::path temp = fs::path(path).concat(".tmp");
+  std::error_code error;
+  fs::create_hard_link(source, temp, error);
+  const bool linked = !error;
+  if (!linked) {
+    fs::remove(temp, error);
+    std::ifstream in(source, std::ios::binary);
+    if (!in) throw InputError(path.string(), Str("cannot copy ", source.string(), ": cannot open it"));
+    const std::string bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+    if (in.bad()) throw InputError(path.string(), Str("cannot copy ", source.string(), ": read failed"));
+    try {
+      WriteFileRemovingOnFailure(temp, bytes, false);
+    } catch (const InputError& e) {
+      throw InputError(path.string(), Str("cannot copy ", source.string(), ": ", e.what()));
+    }
+  }
+  if (::rename(temp.c_str(), path.c_str()) != 0) {
+    const int err = errno;
+    ::unlink(temp.c_str());
+    throw InputError(path.string(), Str("rename failed: ", std::strerror(err)));
+  }
+  return linked;
 }
 
 }  // namespace mocap

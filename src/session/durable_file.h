@@ -16,6 +16,12 @@ void WriteFileAtomically(const std::filesystem::path& path, std::string_view con
 /// file is removed before the exception leaves.
 void WriteFileRemovingOnFailure(const std::filesystem::path& path, std::string_view contents, bool sync);
 
+/// Places an already-encoded file at `path`: a hard link where the file system allows one, else a byte
+/// copy written with our own writes (std::filesystem::copy_file reports a sendfile that ran out of space
+/// as EIO, and the user needs the real reason); never a re-encode. Through a temporary sibling and a
+/// rename, so `path` is whole or absent. Returns true when linked.
+bool LinkOrCopyFile(const std::filesystem::path& source, const std::filesystem::path& path);
+
 /// fsync of a folder, so that renames and new entries in it are durable.
 void SyncDirectory(const std::filesystem::path& dir);
 

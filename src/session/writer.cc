@@ -58,31 +58,6 @@ void RenameIntoPlace(const fs::path& temp, const fs::path& path) {
   }
 }
 
-/// Copies `source` to `temp` with our own writes: std::filesystem::copy_file reports a sendfile that
-/// ran out of space as EIO (or, after a cleanup, as "Success"), and the user needs the real reason.
-void CopyReportingErrno(const fs::path& source, const fs::path& temp, const fs::path& path) {
-  std::ifstream in(source, std::ios::binary);
-  const std::string bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-  if (!in.good() && !in.eof()) throw InputError(path.string(), Str("cannot copy ", source.string(), ": read failed"));
-  try {
-    WriteFileRemovingOnFailure(temp, bytes, false);
-  } catch (const InputError& e) {
-    throw InputError(path.string(), Str("cannot copy ", source.string(), ": ", e.what()));
-  }
-}
-
-/// Places an already-encoded file: a hard link when the file system allows, else a copy.
-void LinkOrCopy(const fs::path& source, const fs::path& path) {
-  const fs::path temp = fs::path(path).concat(".tmp");
-  std::error_code error;
-  fs::create_hard_link(source, temp, error);
-  if (error) {
-    fs::remove(temp, error);
-    CopyReportingErrno(source, temp, path);
-  }
-  RenameIntoPlace(temp, path);
-}
-
 std::string ImportExtension(const fs::path& source, bool depth) {
   std::string ext = source.extension().string();
   for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
@@ -361,8 +336,8 @@ void SessionWriter::AddCameraFrameFiles(const std::string& camera, const CameraF
   const fs::path camera_dir = impl_->dir / "cameras" / camera;
   job->work = [out, camera_dir, color_source, depth_source]() {
     // A listed source that does not exist stays listed but absent: readers count it as missing.
-    if (!color_source.empty() && fs::exists(color_source)) LinkOrCopy(color_source, camera_dir / out.color_file);
-    if (!depth_source.empty() && fs::exists(depth_source)) LinkOrCopy(depth_source, camera_dir / out.depth_file);
+    if (!color_source.empty() && fs::exists(color_source)) LinkOrCopyFile(color_source, camera_dir / out.color_file);
+    if (!depth_source.empty() && fs::exists(depth_source)) LinkOrCopyFile(depth_source, camera_dir / out.depth_file);
     return EncodeRecordLine(ToJson(out));
   };
   impl_->Submit(std::move(job));

@@ -1,0 +1,98 @@
+#include "exporters/export/export.h"
+
+#include <chrono>
+
+#include "core/check.h"
+#include "core/progress.h"
+#include "pipeline/json_read.h"
+#include "pipeline/provenance.h"
+#include "pipeline/publish.h"
+#include "pipeline/run_provenance.h"
+#include "session/durable_file.h"
+
+namespace mocap::exporters {
+namespace fs = std::filesystem;
+namespace {
+
+constexpr const char* kMarker = "export.json";
+
+/// run.json's inputs: each session, label run and validation run (their defining files), each object
+/// library and every mesh exported.
+std::vector<pipeline::InputSpec> InputSpecs(const Dataset& dataset) {
+  std::vector<pipeline::InputSpec> specs;
+  std::map<std::string, int> count;
+  for (const auto& [role, path] : dataset.inputs) {
+    const std::string numbered = Str(role, ":", ++count[role]);
+    if (role == "session") specs.push_back(pipeline::SessionInput(path)), specs.back().role = numbered;
+    else if (role == "labels") specs.push_back({numbered, path, true, {"labels.jsonl", "label_manifest.json", "run.json"}});
+    else if (role == "validation") specs.push_back({numbered, path, true, {"validation.jsonl", "validation.json"}});
+    else specs.push_back({numbered, path, false, {}});
+  }
+  for (const pipeline::LibraryObject& object : dataset.objects.objects)
+    specs.push_back({"mesh:" + object.name, object.mesh_path, false, {}});
+  return specs;
+}
+
+/// Whether `out` holds an export of exactly these inputs (unchanged since) and options.
+bool UpToDate(const fs::path& out, const std::vector<pipeline::InputSpec>& specs, const nlohmann::json& options) {
+  if (!fs::exists(out / kMarker) || !fs::exists(out / "run.json")) return false;
+  const pipeline::RunProvenance run = pipeline::ReadRunJson(out);
+  if (run.kind != "export" || run.options != options || run.inputs.size() != specs.size()) return false;
+  for (size_t i = 0; i < specs.size(); ++i)
+    if (run.inputs[i].role != specs[i].role || fs::path(run.inputs[i].path) != fs::absolute(specs[i].path).lexically_normal())
+      return false;
+  pipeline::HashCache cache;
+  return !pipeline::CheckStale(run, {}, cache).stale;
+}
+
+WriteSummary WriteFormat(const Dataset& dataset, const fs::path& dir, const ExportOptions& options) {
+  switch (options.format) {
+    case ExportFormat::kBop: {
+      BopOptions bop = options.bop;
+      bop.threads = options.threads;
+      return WriteBop(dataset, dir, bop);
+    }
+    default:
+      throw InputError("export", Str("format '", ToString(options.format), "' is not available in this build"));
+  }
+}
+
+}  // namespace
+
+void ExportOptions::check() const {
+  filters.check();
+  splits.check();
+  bop.check();
+  if (threads < 0) throw InputError("ExportOptions", "threads must be >= 0");
+}
+
+ExportResult RunExport(const std::vector<ExportInput>& inputs, const ExportOptions& options, const fs::path& out,
+                       const std::vector<std::string>& command, ProgressSink* sink) {
+  const auto start = std::chrono::steady_clock::now();
+  options.check();
+  Progress progress(sink, "export", 3, "steps");
+  ExportResult result;
+  result.out_dir = fs::absolute(out).lexically_normal();
+  Dataset dataset = LoadDataset(inputs);
+  const std::vector<pipeline::InputSpec> specs = InputSpecs(dataset);
+  const nlohmann::json options_json = ToJson(options);
+  progress.Advance();
+  if (UpToDate(result.out_dir, specs, options_json)) {
+    result = ExportResultFromJson(pipeline::ReadJsonFile(result.out_dir / kMarker), result.out_dir);
+    result.up_to_date = true;
+    progress.Finish();
+    return result;
+  }
+  pipeline::PartialOutput partial(result.out_dir, kMarker, "export");
+  result.selection = SelectFrames(dataset, options.filters, options.splits);
+  progress.Advance();
+  result.written = WriteFormat(dataset, partial.dir(), options);
+  pipeline::WriteProvenance(partial.dir(), "export", command, options_json, specs);
+  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  WriteFileAtomically(partial.dir() / kMarker, result.ToJson().dump(2) + "\n");
+  partial.Publish();
+  progress.Finish();
+  return result;
+}
+
+}  // namespace mocap::exporters
