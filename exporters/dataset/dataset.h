@@ -51,6 +51,10 @@ struct ExportInstance {
   std::string verdict;           ///< the validator's: accept, suspect or reject; "" when not checked
   std::string verdict_reason;    ///< its reason ("" when none)
   bool has_check = false;        ///< a validation record exists for it
+  /// Known not to be in the frame: its body is never reported in the session (an object of the library
+  /// that this session does not hold), or its poses are known per frame (a BOP import: a tracker in the
+  /// camera's frame) and this frame has none. Not a bad label; the filters leave it out silently.
+  bool absent = false;
   /// The validator's residuals, when checked.
   double check_error_mm = -1, check_error_deg = -1;
 };
@@ -61,7 +65,7 @@ struct ExportFrame {
   int64_t index = 0;                      ///< camera record index in the session (labels.jsonl `index`)
   int64_t frame = 0;                      ///< the camera's own frame number
   int64_t stamp_ns = 0;                   ///< host clock (session time)
-  int im_id = 0;                          ///< 0-based position of the frame in its scene after filtering
+  int im_id = 0;                          ///< BOP im_id: the camera record index, stable whatever the filters keep
   std::filesystem::path color_path, depth_path;  ///< "" when the recording has none
   /// The colour camera in the tracker's frame at the frame's time (rig latency applied), when the
   /// camera is tracked.

@@ -88,6 +88,14 @@ ExportScene MakeScene(const CameraStreamInfo& info, const PinholeCamera& color_c
   return scene;
 }
 
+/// Whether a label without a pose means the object is not there (ExportInstance::absent).
+bool KnownAbsent(const SessionReader& session, const pipeline::LabelRecord& r) {
+  if (r.reason.rfind("no tracker in the session reports", 0) == 0) return true;
+  const auto tracker = session.TrackerOfBody(r.body);
+  const TrackerStreamInfo* info = tracker ? session.manifest().FindTracker(*tracker) : nullptr;
+  return info != nullptr && info->frame.rfind("camera:", 0) == 0;
+}
+
 /// The frames of one camera of a label run, with their instances, verdicts and camera poses.
 void AddFrames(Dataset& dataset, size_t scene_index, const pipeline::LabelRun& labels, const PoseChain& chain,
                const std::map<CheckKey, const RecordCheck*>& checks) {
@@ -105,6 +113,7 @@ void AddFrames(Dataset& dataset, size_t scene_index, const pipeline::LabelRun& l
     }
     ExportInstance& instance = current->instances.emplace_back();
     instance.record = r;
+    instance.absent = !r.has_pose && KnownAbsent(*scene.session, r);
     if (const auto it = checks.find({r.camera, r.index, r.instance}); it != checks.end()) {
       const LabelCheck& c = it->second->check;
       instance.has_check = true;

@@ -14,11 +14,6 @@ bool Contains(const std::vector<std::string>& list, const std::string& item) {
   return std::find(list.begin(), list.end(), item) != list.end();
 }
 
-/// An object the session never saw (no tracker reports its body): not a bad label, just absent.
-bool NotInSession(const pipeline::LabelRecord& r) {
-  return !r.has_pose && r.reason.rfind("no tracker in the session reports", 0) == 0;
-}
-
 /// Why the verdict or flag filters leave a label out ("" when they keep it).
 std::string BadLabelReason(const ExportInstance& instance, const ExportFilterOptions& o) {
   const std::string verdict = instance.has_check ? instance.verdict : "unchecked";
@@ -35,8 +30,8 @@ std::string FilterInstances(ExportFrame& frame, const ExportFilterOptions& o, Se
   std::vector<ExportInstance> kept;
   for (ExportInstance& instance : frame.instances) {
     const pipeline::LabelRecord& r = instance.record;
-    if (NotInSession(r)) {
-      ++s.instances_removed["object not in the session"];
+    if (instance.absent) {
+      ++s.instances_removed["object not in the frame"];
       continue;
     }
     if (const std::string why = BadLabelReason(instance, o); !why.empty()) {
@@ -119,9 +114,8 @@ SelectionSummary SelectFrames(Dataset& dataset, const ExportFilterOptions& filte
   for (const ExportFrame& f : dataset.frames) s.instances_in += static_cast<int64_t>(f.instances.size());
   dataset.frames = Filter(std::move(dataset.frames), filters, s);
   AssignSplits(dataset, splits, s);
-  std::map<size_t, int> next_im_id;
   for (ExportFrame& f : dataset.frames) {
-    f.im_id = next_im_id[f.scene]++;
+    f.im_id = static_cast<int>(f.index);  // stable whatever the filters keep: a frame keeps its id across exports
     ++s.frames_per_split[f.split];
     s.instances_kept += static_cast<int64_t>(f.instances.size());
   }

@@ -69,7 +69,7 @@ Dataset LoadDataset(const std::vector<ExportInput>& inputs);
 /// the guard gap of a frame of an earlier split (train before val before test), counted in `summary`.
 void AssignSplits(Dataset& dataset, const ExportSplitOptions& options, SelectionSummary& summary);
 
-/// Applies the filters, numbers the kept frames of each scene (im_id) and assigns splits.
+/// Applies the filters, gives each kept frame its im_id (its camera record index) and assigns splits.
 SelectionSummary SelectFrames(Dataset& dataset, const ExportFilterOptions& filters, const ExportSplitOptions& splits);
 
 }  // namespace mocap::exporters

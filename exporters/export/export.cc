@@ -52,9 +52,23 @@ WriteSummary WriteFormat(const Dataset& dataset, const fs::path& dir, const Expo
       bop.threads = options.threads;
       return WriteBop(dataset, dir, bop);
     }
-    default:
-      throw InputError("export", Str("format '", ToString(options.format), "' is not available in this build"));
+    case ExportFormat::kCoco: {
+      CocoOptions coco = options.coco;
+      coco.threads = options.threads;
+      return WriteCoco(dataset, dir, coco);
+    }
+    case ExportFormat::kSegpairs: {
+      SegPairsOptions segpairs = options.segpairs;
+      segpairs.threads = options.threads;
+      return WriteSegPairs(dataset, dir, segpairs);
+    }
+    case ExportFormat::kTum: {
+      TumExportOptions tum = options.tum;
+      tum.threads = options.threads;
+      return WriteTum(dataset, dir, tum);
+    }
   }
+  throw InputError("export", Str("unknown format '", ToString(options.format), "'"));
 }
 
 }  // namespace
@@ -63,6 +77,9 @@ void ExportOptions::check() const {
   filters.check();
   splits.check();
   bop.check();
+  coco.check();
+  segpairs.check();
+  tum.check();
   if (threads < 0) throw InputError("ExportOptions", "threads must be >= 0");
 }
 

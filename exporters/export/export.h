@@ -8,6 +8,9 @@
 #include <vector>
 
 #include "exporters/bop/bop_writer.h"
+#include "exporters/coco/coco_writer.h"
+#include "exporters/segpairs/segpairs_writer.h"
+#include "exporters/tum/tum_writer.h"
 #include "exporters/dataset/selection.h"
 
 namespace mocap {
@@ -26,6 +29,9 @@ struct ExportOptions {
   ExportFilterOptions filters;
   ExportSplitOptions splits;
   BopOptions bop;
+  CocoOptions coco;
+  SegPairsOptions segpairs;
+  TumExportOptions tum;
   int threads = 0;  ///< 0: one per core
   void check() const;
 };

@@ -60,7 +60,12 @@ nlohmann::json ToJson(const ExportOptions& o) {
           {"splits", {{"by", SplitByName(s.by)}, {"train", s.train}, {"val", s.val}, {"test", s.test},
                       {"block_s", s.block_s}, {"guard_s", s.guard_s}, {"seed", s.seed}, {"none_split", s.none_split}}},
           {"bop", {{"write_depth", o.bop.write_depth}, {"write_masks", o.bop.write_masks},
-                   {"write_models", o.bop.write_models}, {"converted_depth_scale_mm", o.bop.converted_depth_scale_mm}}}};
+                   {"write_models", o.bop.write_models}, {"converted_depth_scale_mm", o.bop.converted_depth_scale_mm}}},
+          {"coco", {{"ignore_below_visib_fract", o.coco.ignore_below_visib_fract}, {"write_ignore", o.coco.write_ignore},
+                    {"keep_invisible", o.coco.keep_invisible}}},
+          {"segpairs", {{"ignore_left_out", o.segpairs.ignore_left_out}}},
+          {"tum", {{"write_depth", o.tum.write_depth}, {"write_objects", o.tum.write_objects},
+                   {"jpeg_to_png", o.tum.jpeg_to_png}, {"camera_frame_when_untracked", o.tum.camera_frame_when_untracked}}}};
 }
 
 nlohmann::json ExportResult::ToJson() const {

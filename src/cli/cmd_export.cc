@@ -78,9 +78,17 @@ int RunExport(int argc, char** argv) {
   app.add_flag("--no-validation", no_validation, "ignore validation runs: every label counts as unchecked");
   AddFilterFlags(app, options.filters, keep_frames);
   AddSplitFlags(app, options.splits, split_by, fractions);
-  app.add_flag("--no-depth", no_depth, "BOP: no depth/ images");
+  app.add_flag("--no-depth", no_depth, "BOP, TUM: no depth images");
   app.add_flag("--no-masks", no_masks, "BOP: no mask/ and mask_visib/ images");
   app.add_flag("--no-models", no_models, "BOP: no models/");
+  app.add_flag("!--no-coco-ignore", options.coco.write_ignore,
+               "COCO: no `ignore` key (detectron2 refuses annotations with a true one)");
+  app.add_flag("--keep-invisible", options.coco.keep_invisible, "COCO: keep instances with no visible pixel");
+  app.add_flag("!--no-ignore-left-out", options.segpairs.ignore_left_out,
+               "segpairs: pixels of left-out labels become background instead of the ignore value");
+  app.add_flag("--jpeg-to-png", options.tum.jpeg_to_png, "TUM: re-encode JPEG colour as PNG (TUM's tools expect PNG)");
+  app.add_flag("--camera-frame-when-untracked", options.tum.camera_frame_when_untracked,
+               "TUM: an untracked camera gives object trajectories in the camera frame instead of an error");
   app.add_option("--threads", options.threads, "worker threads (0: one per core)")->check(CLI::Range(0, 256));
   app.add_flag("--json", json, "print one JSON summary on stdout");
   ProgressFlags progress_flags;
@@ -102,7 +110,7 @@ int RunExport(int argc, char** argv) {
   options.splits.by = split_by == "none" ? exporters::SplitBy::kNone
                       : split_by == "session" ? exporters::SplitBy::kSession : exporters::SplitBy::kTime;
   if (!fractions.empty()) options.splits.train = fractions[0], options.splits.val = fractions[1], options.splits.test = fractions[2];
-  options.bop.write_depth = !no_depth, options.bop.write_masks = !no_masks, options.bop.write_models = !no_models;
+  options.bop.write_depth = options.tum.write_depth = !no_depth, options.bop.write_masks = !no_masks, options.bop.write_models = !no_models;
   const exporters::ExportResult result = exporters::RunExport(inputs, options, out, CommandLine(argc, argv), progress.get());
   if (json) std::printf("%s\n", result.ToJson().dump().c_str());
   else PrintHuman(result);
