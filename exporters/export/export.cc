@@ -112,4 +112,20 @@ ExportResult RunExport(const std::vector<ExportInput>& inputs, const ExportOptio
   return result;
 }
 
+pipeline::Stage MakeExportStage(const ExportOptions& options) {
+  pipeline::Stage stage;
+  stage.name = "export";
+  stage.inputs = [](const pipeline::PipelineContext& c) { return std::vector<fs::path>{c.session_dir, c.labels_dir}; };
+  stage.outputs = [](const pipeline::PipelineContext& c) { return std::vector<fs::path>{c.out_dir / "dataset"}; };
+  stage.run = [options](pipeline::PipelineContext& c, const pipeline::Shard&) {
+    ExportOptions o = options;
+    o.threads = c.threads;
+    const ExportInput input{c.session_dir, c.labels_dir, c.validation_dir, c.validation_dir.empty()};
+    const ExportResult result = RunExport({input}, o, c.out_dir / "dataset", c.command, c.progress);
+    c.results["export"] = result.ToJson();
+    c.outputs["dataset"] = result.out_dir.string();
+  };
+  return stage;
+}
+
 }  // namespace mocap::exporters

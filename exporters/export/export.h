@@ -12,6 +12,7 @@
 #include "exporters/segpairs/segpairs_writer.h"
 #include "exporters/tum/tum_writer.h"
 #include "exporters/dataset/selection.h"
+#include "pipeline/stage.h"
 
 namespace mocap {
 class ProgressSink;
@@ -58,5 +59,9 @@ ExportResult ExportResultFromJson(const nlohmann::json& json, const std::filesys
 ExportResult RunExport(const std::vector<ExportInput>& inputs, const ExportOptions& options,
                        const std::filesystem::path& out, const std::vector<std::string>& command,
                        ProgressSink* progress = nullptr);
+
+/// The export as a pipeline stage (the demo's last): the context's session, label run and validation run
+/// into out_dir/dataset as `options.format`; its summary goes into the context's results.
+pipeline::Stage MakeExportStage(const ExportOptions& options);
 
 }  // namespace mocap::exporters

@@ -8,6 +8,7 @@
 
 #include "cli/parse_args.h"
 #include "cli/commands.h"
+#include "exporters/export/export.h"
 #include "cli/progress_flag.h"
 #include "cli/scenario_yaml.h"
 #include "core/check.h"
@@ -40,11 +41,24 @@ void PrintHuman(const pipeline::DemoResult& r) {
     for (const auto& [verdict, count] : s["verdicts"].items()) std::printf(" %s %lld", verdict.c_str(), count.get<long long>());
     std::printf("\n");
   }
+  if (const nlohmann::json& e = s["export"]; e.is_object()) {
+    std::printf("  dataset (%s): %lld frames, %lld labels;", e["written"]["format"].get<std::string>().c_str(),
+                e["written"]["images"].get<long long>(), e["written"]["annotations"].get<long long>());
+    for (const auto& [split, n] : e["selection"]["frames_per_split"].items()) std::printf(" %s %lld", split.c_str(), n.get<long long>());
+    std::printf("\n");
+  }
   std::printf("  seconds:");
   for (const auto& [stage, seconds] : r.seconds_per_stage) std::printf(" %s %.1f", stage.c_str(), seconds);
   std::printf("\n");
   for (const auto& note : s["notes"]) std::printf("  note: %s\n", note.get<std::string>().c_str());
   for (const auto& [name, path] : s["outputs"].items()) std::printf("  %-17s %s\n", name.c_str(), path.get<std::string>().c_str());
+}
+
+/// The demo's dataset: BOP (what pose-estimation training reads), split by time with the defaults.
+exporters::ExportOptions DemoExportOptions() {
+  exporters::ExportOptions options;
+  options.format = exporters::ExportFormat::kBop;
+  return options;
 }
 
 }  // namespace
@@ -80,7 +94,8 @@ int RunDemo(int argc, char** argv) {
                                                pipeline::MakeDemoLabelStage(),
                                                pipeline::MakeValidateStage(options.validate_frame_stride, {"table"}),
                                                pipeline::MakeScoreStage(),
-                                               pipeline::MakeContactSheetStage()};
+                                               pipeline::MakeContactSheetStage(),
+                                               exporters::MakeExportStage(DemoExportOptions())};
   const pipeline::DemoResult result = pipeline::RunDemo(options, stages, scenario.options.frame_count, scenario.options.name,
                                                         CommandLine(argc, argv));
   if (json) std::printf("%s\n", result.summary.dump().c_str());

@@ -34,7 +34,7 @@ LabelScores Score(const PipelineContext& c) {
 
 LabelOptions DemoLabelOptions() {
   LabelOptions label;
-  label.output.write_masks = false;  // scoring and the contact sheet need the instance images only
+  label.output.write_masks = true;  // the export's masks (scoring and the contact sheet need the instance images only)
   label.output.write_depth = false;
   label.renderer.outside_margin_fraction = 0.25;  // amodal boxes of objects leaving the image are not scored
   return label;
@@ -73,6 +73,7 @@ nlohmann::json DemoJson(const PipelineContext& c, const StageSeconds& stage_seco
   j["validated_frames"] = Field(c, "validate", "validated_frames");
   j["validate_frame_stride"] = Field(c, "validate", "frame_stride");
   j["capture"] = c.results.count("capture") ? c.results.at("capture") : nlohmann::json();
+  j["export"] = c.results.count("export") ? c.results.at("export") : nlohmann::json();
   j["seconds_per_stage"] = seconds;
   j["outputs"] = c.outputs;
   j["notes"] = c.notes;
