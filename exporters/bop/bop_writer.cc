@@ -7,6 +7,7 @@
 #include <thread>
 
 #include "core/check.h"
+#include "exporters/dataset/parallel.h"
 #include "exporters/bop/bop_internal.h"
 #include "session/durable_file.h"
 
@@ -24,29 +25,6 @@ fs::path SceneDir(const fs::path& root, const std::string& split, int scene_id) 
   char name[16];
   std::snprintf(name, sizeof name, "%06d", scene_id);
   return root / split / name;
-}
-
-/// Runs `work(i)` for i in [0, n) on `threads` threads; rethrows the first exception.
-void ParallelFor(size_t n, int threads, const std::function<void(size_t)>& work) {
-  std::atomic<size_t> next{0};
-  std::exception_ptr error;
-  std::mutex error_mutex;
-  auto worker = [&] {
-    for (size_t i = next++; i < n; i = next++) {
-      try {
-        work(i);
-      } catch (...) {
-        const std::lock_guard lock(error_mutex);
-        if (!error) error = std::current_exception();
-        next = n;
-      }
-    }
-  };
-  std::vector<std::thread> pool;
-  for (int t = 1; t < threads; ++t) pool.emplace_back(worker);
-  worker();
-  for (std::thread& t : pool) t.join();
-  if (error) std::rethrow_exception(error);
 }
 
 nlohmann::json CameraJson(const Dataset& d) {
@@ -97,7 +75,7 @@ WriteSummary WriteBop(const Dataset& dataset, const fs::path& dir, const BopOpti
     for (const ExportInstance& i : f.instances)
       if (i.record.has_pose) ++summary.annotations, ++summary.annotations_per_split[f.split];
   }
-  const int threads = options.threads > 0 ? options.threads : std::max(1u, std::thread::hardware_concurrency());
+  const int threads = WorkerThreads(options.threads);
   std::atomic<int64_t> files{0};
   ParallelFor(dataset.frames.size(), threads, [&](size_t i) {
     SceneFolder& folder = *folder_of_frame[i];

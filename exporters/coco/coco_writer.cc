@@ -14,6 +14,7 @@
 #include <thread>
 
 #include "core/check.h"
+#include "exporters/dataset/parallel.h"
 #include "exporters/coco/coco_rle.h"
 #include "session/durable_file.h"
 
@@ -155,31 +156,6 @@ FrameOutput ConvertFrame(const Dataset& dataset, size_t frame_index, const fs::p
   return out;
 }
 
-/// Runs body(i) for i in [begin, end) on `threads` threads. Rethrows the failure of the lowest i, so the
-/// error reported does not depend on scheduling.
-template <typename Body>
-void ParallelFor(size_t begin, size_t end, int threads, const Body& body) {
-  std::atomic<size_t> next{begin};
-  std::mutex mutex;
-  std::exception_ptr error;
-  size_t error_at = std::numeric_limits<size_t>::max();
-  const auto work = [&] {
-    for (size_t i = next++; i < end; i = next++) {
-      try {
-        body(i);
-      } catch (...) {
-        const std::lock_guard<std::mutex> lock(mutex);
-        if (i < error_at) error = std::current_exception(), error_at = i;
-      }
-    }
-  };
-  std::vector<std::thread> pool;
-  for (int t = 1; t < threads && static_cast<size_t>(t) < end - begin; ++t) pool.emplace_back(work);
-  work();
-  for (std::thread& t : pool) t.join();
-  if (error) std::rethrow_exception(error);
-}
-
 /// One split's file as it grows: the images and annotations arrays' elements, comma-separated.
 struct SplitText {
   std::string images, annotations;
@@ -245,11 +221,6 @@ void MakeDirectory(const fs::path& dir) {
   if (error) throw InputError(dir.string(), Str("cannot create the folder: ", error.message()));
 }
 
-int ThreadCount(const CocoOptions& options) {
-  if (options.threads > 0) return options.threads;
-  return static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-}
-
 }  // namespace
 
 void CocoOptions::check() const {
@@ -276,8 +247,8 @@ WriteSummary WriteCoco(const Dataset& dataset, const fs::path& dir, const CocoOp
   for (size_t begin = 0; begin < dataset.frames.size(); begin += kFramesPerBatch) {
     const size_t end = std::min(dataset.frames.size(), begin + kFramesPerBatch);
     batch.assign(end - begin, FrameOutput{});
-    ParallelFor(begin, end, ThreadCount(options),
-                [&](size_t i) { batch[i - begin] = ConvertFrame(dataset, i, dir, options); });
+    ParallelFor(end - begin, options.threads,
+                [&](size_t k) { batch[k] = ConvertFrame(dataset, begin + k, dir, options); });
     AppendBatch(dataset, begin, batch, splits, totals, summary);
   }
   for (const char* split : kSplits) {

@@ -14,6 +14,7 @@
 #include <thread>
 
 #include "core/check.h"
+#include "exporters/dataset/parallel.h"
 #include "label/label_png.h"
 #include "session/durable_file.h"
 
@@ -112,28 +113,6 @@ std::string ClassesText(const std::vector<SegClass>& classes, const pipeline::Ob
   return text + Str(ignore_value, " ignore ", +kIgnoreRgb[0], " ", +kIgnoreRgb[1], " ", +kIgnoreRgb[2], "\n");
 }
 
-void ParallelFor(size_t n, int threads, const std::function<void(size_t)>& work) {
-  std::atomic<size_t> next{0};
-  std::exception_ptr error;
-  std::mutex error_mutex;
-  auto worker = [&] {
-    for (size_t i = next++; i < n; i = next++) {
-      try {
-        work(i);
-      } catch (...) {
-        const std::lock_guard lock(error_mutex);
-        if (!error) error = std::current_exception();
-        next = n;  // stop handing out frames: the export fails as a whole
-      }
-    }
-  };
-  std::vector<std::thread> pool;
-  for (int t = 1; t < threads && static_cast<size_t>(t) < n; ++t) pool.emplace_back(worker);
-  worker();
-  for (auto& thread : pool) thread.join();
-  if (error) std::rethrow_exception(error);
-}
-
 }  // namespace
 
 void SegPairsOptions::check() const {
@@ -204,7 +183,7 @@ WriteSummary WriteSegPairs(const Dataset& dataset, const fs::path& dir, const Se
   for (const std::string& split : dataset.splits())
     for (const std::string& sub : {split, split + "annot"}) fs::create_directories(dir / sub);
   std::vector<PairPaths> pairs(dataset.frames.size());
-  const int threads = options.threads > 0 ? options.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  const int threads = WorkerThreads(options.threads);
   ParallelFor(dataset.frames.size(), threads, [&](size_t i) {
     pairs[i] = WriteFrame(dataset, dataset.frames[i], dir, class_of_object, ignore_value, options);
   });

@@ -17,6 +17,7 @@
 #include <thread>
 
 #include "core/check.h"
+#include "exporters/dataset/parallel.h"
 #include "label/label_png.h"
 #include "session/durable_file.h"
 #include "session/png_write.h"
@@ -52,28 +53,6 @@ std::string CommentSafe(std::string text) {
   for (char& c : text)
     if (static_cast<unsigned char>(c) < 0x20 || c == 0x7F) c = '?';
   return text;
-}
-
-void ParallelFor(size_t n, int threads, const std::function<void(size_t)>& work) {
-  std::atomic<size_t> next{0};
-  std::exception_ptr error;
-  std::mutex error_mutex;
-  auto worker = [&] {
-    for (size_t i = next++; i < n; i = next++) {
-      try {
-        work(i);
-      } catch (...) {
-        const std::lock_guard lock(error_mutex);
-        if (!error) error = std::current_exception();
-        next = n;  // stop handing out frames: the export fails as a whole
-      }
-    }
-  };
-  std::vector<std::thread> pool;
-  for (int t = 1; t < threads && static_cast<size_t>(t) < n; ++t) pool.emplace_back(worker);
-  worker();
-  for (auto& thread : pool) thread.join();
-  if (error) std::rethrow_exception(error);
 }
 
 /// rgb/<stem>.<ext>: the recorded file linked or copied, or a JPEG re-encoded as PNG when asked.
@@ -284,7 +263,7 @@ WriteSummary WriteTum(const Dataset& dataset, const fs::path& dir, const TumExpo
     for (const char* sub : {"rgb", "depth"}) fs::create_directories(seq.dir / sub);
     for (size_t k = 0; k < seq.frames.size(); ++k) jobs.emplace_back(&seq, k);
   }
-  const int threads = options.threads > 0 ? options.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  const int threads = WorkerThreads(options.threads);
   ParallelFor(jobs.size(), threads, [&](size_t j) {
     auto& [seq, k] = jobs[j];
     const ExportFrame& frame = *seq->frames[k];

@@ -15,6 +15,7 @@
 #include "exporters/segpairs/segpairs_writer.h"
 #include "pipeline/label_stage.h"
 #include "pipeline/record_stage.h"
+#include "tests/exporters/simulated_labels.h"
 #include "tests/labeller/labeller_test_util.h"
 
 namespace mocap::exporters {
@@ -108,26 +109,6 @@ TEST(SegPairsWriter, OptionsAreChecked) {
   EXPECT_NO_THROW(SegPairsOptions{}.check());
 }
 
-/// An 8-frame simulated session (default scenario: bottle, funnel, engine block, table; a hand) and its
-/// label run with masks.
-struct Labelled {
-  fs::path dir, session, labels;
-};
-Labelled SimulateAndLabel(const std::string& name) {
-  Labelled out{testing::FreshDir(name), {}, {}};
-  out.session = out.dir / "S", out.labels = out.dir / "L";
-  sim::Scenario scenario = sim::DefaultScenario();
-  scenario.options.frame_count = 8;
-  sim::RecordOptions record;
-  record.out_dir = out.session, record.threads = 2;
-  const pipeline::SimRecordResult recorded = pipeline::RecordSimulatedSession(scenario, nullptr, record);
-  pipeline::LabelRunRequest request;
-  request.session_dir = out.session, request.rig_file = recorded.rig_file, request.objects_file = recorded.objects_file;
-  request.out_dir = out.labels, request.label.threads = 2, request.command = {"mocaplabel", "label"};
-  pipeline::RunLabel(request);
-  return out;
-}
-
 /// The rules of segpairs_writer.h pixel by pixel from the label run's files: classes of the kept
 /// visible masks covering the pixel, the z-buffer's instance. Adds the pixels in an overlap of
 /// different classes to `overlaps` (so the caller can see the rule was exercised).
@@ -168,7 +149,7 @@ void ExpectLeftOutIgnored(const cv::Mat& got, const ExportScene& scene, int left
 }
 
 TEST(SegPairsWriter, SimulatedSessionWithALeftOutInstance) {
-  const Labelled in = SimulateAndLabel("segpairs_sim");
+  const testing::SimulatedLabels in = testing::SimulateAndLabel("segpairs_sim");
   Dataset dataset = LoadDataset({{in.session, in.labels, {}}});
   SelectFrames(dataset, ExportFilterOptions{}, ExportSplitOptions{.by = SplitBy::kNone});
   ASSERT_EQ(dataset.frames.size(), 8u);

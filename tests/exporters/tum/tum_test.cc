@@ -15,6 +15,7 @@
 #include "pipeline/label_stage.h"
 #include "pipeline/record_stage.h"
 #include "session/import/tum_import.h"
+#include "tests/exporters/simulated_labels.h"
 #include "tests/labeller/labeller_test_util.h"
 
 namespace mocap::exporters {
@@ -163,26 +164,6 @@ TEST(TumWriter, OptionsAreChecked) {
   EXPECT_NO_THROW(TumExportOptions{}.check());
 }
 
-/// An 8-frame simulated session (the default scenario: Kinect v1 depth in mm, tracked camera, four
-/// objects) and its label run.
-struct Labelled {
-  fs::path dir, session, labels;
-};
-Labelled SimulateAndLabel(const std::string& name) {
-  Labelled out{testing::FreshDir(name), {}, {}};
-  out.session = out.dir / "S", out.labels = out.dir / "L";
-  sim::Scenario scenario = sim::DefaultScenario();
-  scenario.options.frame_count = 8;
-  sim::RecordOptions record;
-  record.out_dir = out.session, record.threads = 2;
-  const pipeline::SimRecordResult recorded = pipeline::RecordSimulatedSession(scenario, nullptr, record);
-  pipeline::LabelRunRequest request;
-  request.session_dir = out.session, request.rig_file = recorded.rig_file, request.objects_file = recorded.objects_file;
-  request.out_dir = out.labels, request.label.threads = 2, request.command = {"mocaplabel", "label"};
-  pipeline::RunLabel(request);
-  return out;
-}
-
 /// The re-imported depth equals the exported one within half a TUM unit (1/10000 m), pixel by pixel.
 void ExpectSameDepth(const cv::Mat& exported_m, const DepthImage& reimported_m) {
   ASSERT_EQ(reimported_m.width, exported_m.cols);
@@ -198,7 +179,7 @@ void ExpectSameDepth(const cv::Mat& exported_m, const DepthImage& reimported_m) 
 }
 
 TEST(TumWriter, ReimportedByTheTumImporterGivesTheSamePosesAndDepth) {
-  const Labelled in = SimulateAndLabel("tum_roundtrip");
+  const testing::SimulatedLabels in = testing::SimulateAndLabel("tum_roundtrip");
   Dataset dataset = LoadDataset({{in.session, in.labels, {}}});
   SelectFrames(dataset, ExportFilterOptions{}, ExportSplitOptions{.by = SplitBy::kNone});
   ASSERT_GE(dataset.frames.size(), 6u);
