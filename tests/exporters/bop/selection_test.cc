@@ -6,9 +6,11 @@
 #include <fstream>
 #include <set>
 
+#include "core/check.h"
 #include "exporters/export/export.h"
 #include "pipeline/object_library.h"
 #include "tests/exporters/bop/export_fixture.h"
+#include "tests/session/full_disk.h"
 
 namespace mocap {
 namespace {
@@ -150,6 +152,29 @@ TEST(ExportErrors, MismatchedRunsClashingIdsAndForeignFoldersAreOneClearError) {
   EXPECT_NE(output.find("up to date"), std::string::npos) << output;
   EXPECT_EQ(fs::last_write_time(out / "export.json"), mtime);
   fs::remove_all(a.dir), fs::remove_all(b.dir);
+}
+
+TEST(ExportErrors, AFullDiskSaysSoAndLeavesNothing) {
+  const testing::LabelledSession s = testing::MakeLabelledSession("full_disk", 6);
+  const fs::path mount_point = s.dir / "disk";
+  fs::create_directories(mount_point);
+  const std::string result = testing::RunOnFullDiskInChild(mount_point, [&](const testing::SayFn& say) {
+    const fs::path out = mount_point / "D";
+    std::string error;
+    ExportInput input;
+    input.session_dir = s.session;
+    try {  // images copied (no hard link across file systems) onto a 1 MiB disk
+      RunExport({input}, ExportOptions{}, out, {"mocaplabel", "export"});
+    } catch (const InputError& e) {
+      error = e.what();
+    }
+    if (error.find("No space left on device") == std::string::npos) say("FAIL expected ENOSPC, got: " + error);
+    if (fs::exists(out) || fs::exists(fs::path(out).concat(".partial"))) say("FAIL a dataset was left at " + out.string());
+    say("OK " + error);
+  });
+  if (result.rfind("SKIP", 0) == 0) GTEST_SKIP() << result;
+  EXPECT_EQ(result.substr(0, 3), "OK ") << result;
+  fs::remove_all(s.dir);
 }
 
 }  // namespace
