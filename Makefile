@@ -36,7 +36,7 @@ test-unit: build
 # Tests that render through EGL (in process, or in the mocaplabel processes they start) run without LeakSanitizer: Mesa's llvmpipe keeps process-lifetime
 # allocations made from JIT code and unloaded driver modules, which LeakSanitizer cannot attribute to a
 # library and so cannot suppress. AddressSanitizer and UBSan still check them. (Selected by test binary.)
-EGL_TESTS = ^(render_egl_test|label_test|labeller_test|validate_egl_test|pipeline_run_test|pipeline_cli_test)/
+EGL_TESTS = ^(render_egl_test|label_test|labeller_test|validate_egl_test|pipeline_run_test|pipeline_cli_test|export_[a-z0-9]+_test)/
 SAN_ENV = ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 test-asan: build-asan
 	$(SAN_ENV) ctest --test-dir $(ASAN_DIR) --output-on-failure -j $(JOBS) -LE 'e2e|slow' -E '$(EGL_TESTS)'
