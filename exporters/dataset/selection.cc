@@ -118,6 +118,7 @@ SelectionSummary SelectFrames(Dataset& dataset, const ExportFilterOptions& filte
     f.im_id = static_cast<int>(f.index);  // stable whatever the filters keep: a frame keeps its id across exports
     ++s.frames_per_split[f.split];
     s.instances_kept += static_cast<int64_t>(f.instances.size());
+    for (const ExportInstance& i : f.instances) ++s.instances_per_object[i.record.name];
   }
   s.frames_kept = static_cast<int64_t>(dataset.frames.size());
   return s;

@@ -56,6 +56,7 @@ struct SelectionSummary {
   /// "guard gap", "frame with a left-out label") -> count of frames or instances.
   std::map<std::string, int64_t> frames_removed, instances_removed;
   std::map<std::string, int64_t> frames_per_split;
+  std::map<std::string, int64_t> instances_per_object;  ///< kept, by object name
 };
 
 /// Reads the inputs: each session, its label run (ExportInput::labels_dir or SESSION/labels) and its

@@ -18,7 +18,7 @@ nlohmann::json SelectionJson(const SelectionSummary& s) {
   return {{"frames_in", s.frames_in},           {"frames_kept", s.frames_kept},
           {"instances_in", s.instances_in},     {"instances_kept", s.instances_kept},
           {"frames_removed", s.frames_removed}, {"instances_removed", s.instances_removed},
-          {"frames_per_split", s.frames_per_split}};
+          {"frames_per_split", s.frames_per_split}, {"instances_per_object", s.instances_per_object}};
 }
 
 nlohmann::json WrittenJson(const WriteSummary& w) {
@@ -87,6 +87,7 @@ ExportResult ExportResultFromJson(const nlohmann::json& j, const std::filesystem
     r.selection.frames_removed = s.at("frames_removed").get<std::map<std::string, int64_t>>();
     r.selection.instances_removed = s.at("instances_removed").get<std::map<std::string, int64_t>>();
     r.selection.frames_per_split = s.at("frames_per_split").get<std::map<std::string, int64_t>>();
+    r.selection.instances_per_object = s.at("instances_per_object").get<std::map<std::string, int64_t>>();
     const nlohmann::json& w = j.at("written");
     r.written.format = w.at("format"), r.written.images = w.at("images"), r.written.annotations = w.at("annotations");
     r.written.files = w.at("files");

@@ -27,6 +27,8 @@ void PrintHuman(const exporters::ExportResult& r) {
               r.written.format.c_str(), r.out_dir.string().c_str(), r.seconds);
   std::printf("splits:");
   for (const auto& [split, n] : s.frames_per_split) std::printf("  %s=%lld", split.c_str(), static_cast<long long>(n));
+  std::printf("\nlabels per object:");
+  for (const auto& [name, n] : s.instances_per_object) std::printf("  %s=%lld", name.c_str(), static_cast<long long>(n));
   std::printf("\n");
   for (const auto& [why, n] : s.frames_removed) std::printf("  frames left out: %lld (%s)\n", static_cast<long long>(n), why.c_str());
   for (const auto& [why, n] : s.instances_removed) std::printf("  labels left out: %lld (%s)\n", static_cast<long long>(n), why.c_str());
