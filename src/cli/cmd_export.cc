@@ -97,9 +97,9 @@ int RunExport(int argc, char** argv) {
   AddProgressFlags(app, progress_flags);
   app.callback([&] {  // runs inside parse, so a mismatch is a usage error like any other
     if (!labels.empty() && labels.size() != sessions.size())
-      throw CLI::ValidationError("--labels", Str("given ", labels.size(), " times for ", sessions.size(), " sessions (once per session, in order)"));
+      throw CLI::ValidationError("--labels", Str("given ", labels.size(), " time(s) for ", sessions.size(), " sessions (once per session, in order)"));
     if (!validations.empty() && validations.size() != sessions.size())
-      throw CLI::ValidationError("--validation", Str("given ", validations.size(), " times for ", sessions.size(), " sessions"));
+      throw CLI::ValidationError("--validation", Str("given ", validations.size(), " time(s) for ", sessions.size(), " sessions (once per session, in order)"));
   });
   MOCAP_PARSE(app, argc, argv);
   const std::unique_ptr<ProgressSink> progress = ApplyProgressFlags(progress_flags);
