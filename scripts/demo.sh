@@ -29,5 +29,5 @@ echo "== 4. real scanned meshes and poses (BOP LM-O scene 2): import, then label
 "$bin" label "$out/bop_session" --out "$out/bop_labels" --overlay
 
 echo
-echo "outputs in $out: sim/ (demo.json, contact_sheet.png, simulated/ with truth/, session/, labels/), tum_session/,"
+echo "outputs in $out: sim/ (demo.json, contact_sheet.png, simulated/ with truth/, session/, labels/, dataset/ (BOP)), tum_session/,"
 echo "bop_session/, bop_labels/ (labels.jsonl, masks, overlays in bop_labels/bop/overlay/)"
