@@ -2,9 +2,9 @@
 // object of the library as obj_OOOOOO.ply in millimetres, with its diameter, extents and symmetries.
 #include <Eigen/Geometry>
 #include <algorithm>
-#include <cctype>
 
 #include "core/check.h"
+#include "core/text.h"
 #include "exporters/bop/bop_internal.h"
 #include "render/mesh.h"
 #include "session/durable_file.h"
@@ -65,9 +65,7 @@ nlohmann::json ModelInfo(const pipeline::LibraryObject& object, const Mesh& mesh
 /// The mesh in mm: a PLY already in mm is placed as it is (its colours, texture and normals kept);
 /// anything else is written as binary PLY from the loaded geometry and vertex colours.
 void WriteModel(const pipeline::LibraryObject& object, const Mesh& mesh, const fs::path& file) {
-  std::string ext = object.mesh_path.extension().string();
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  if (ext == ".ply" && object.unit == "mm") {
+  if (LowerExtension(object.mesh_path) == ".ply" && object.unit == "mm") {
     LinkOrCopyFile(object.mesh_path, file);
     return;
   }

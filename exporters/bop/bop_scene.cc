@@ -1,12 +1,11 @@
 // One frame of a BOP scene folder: rgb/, depth/, mask/, mask_visib/ and its entries of scene_camera.json,
 // scene_gt.json and scene_gt_info.json (formats.md §1; bop_toolkit_lib/inout.py save_scene_camera,
 // save_scene_gt; calc_gt_info.py for the statistics).
-#include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <opencv2/core.hpp>
 
 #include "core/check.h"
+#include "core/text.h"
 #include "exporters/bop/bop_internal.h"
 #include "label/label_output.h"
 #include "label/label_png.h"
@@ -28,12 +27,6 @@ std::vector<double> RowMajor(const Eigen::Matrix3d& R) {
 }
 
 std::vector<double> Millimetres(const Eigen::Vector3d& t_m) { return {t_m.x() * 1e3, t_m.y() * 1e3, t_m.z() * 1e3}; }
-
-std::string LowerExtension(const fs::path& file) {
-  std::string ext = file.extension().string();
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return ext == ".jpeg" ? ".jpg" : ext;
-}
 
 /// The frame's depth as BOP wants it; returns depth_scale (mm per unit), or 0 when none was written.
 /// Registered 16-bit PNGs are linked as recorded (no re-encode); others go through ColorAlignedDepthM.

@@ -14,6 +14,7 @@
 #include <thread>
 
 #include "core/check.h"
+#include "core/text.h"
 #include "exporters/dataset/parallel.h"
 #include "label/label_png.h"
 #include "session/durable_file.h"
@@ -29,12 +30,6 @@ constexpr std::array<uint8_t, 3> kIgnoreRgb = {224, 224, 192};  // VOC's colour 
 struct PairPaths {
   std::string image, label;  ///< relative to the export folder; empty when the frame was left out
 };
-
-std::string LowerExtension(const fs::path& file) {
-  std::string ext = file.extension().string();
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return ext == ".jpeg" ? ".jpg" : ext;
-}
 
 /// Class names are one field of classes.txt: whitespace and control characters become '_'.
 std::string FieldSafe(std::string name) {

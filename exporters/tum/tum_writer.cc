@@ -17,6 +17,7 @@
 #include <thread>
 
 #include "core/check.h"
+#include "core/text.h"
 #include "exporters/dataset/parallel.h"
 #include "label/label_png.h"
 #include "session/durable_file.h"
@@ -34,12 +35,6 @@ struct Sequence {
   std::vector<std::string> stems;      ///< unique per sequence: the stamp text, "_<index>" on a clash
   std::vector<std::string> rgb, depth;  ///< relative paths written per frame ("" when none)
 };
-
-std::string LowerExtension(const fs::path& file) {
-  std::string ext = file.extension().string();
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return ext == ".jpeg" ? ".jpg" : ext;
-}
 
 /// Object names become file names: anything but [A-Za-z0-9._-] is replaced by '_'.
 std::string FileSafe(std::string name) {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <cstdint>
 
 namespace mocap {
@@ -116,6 +117,12 @@ std::string QuoteForMessage(std::string_view text, size_t max_bytes) {
   }
   out += cut ? "'..." : "'";
   return out;
+}
+
+std::string LowerExtension(const std::filesystem::path& file) {
+  std::string ext = file.extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext == ".jpeg" ? ".jpg" : ext;
 }
 
 }  // namespace mocap

@@ -2,6 +2,7 @@
 // Text that comes from files users hand us: names and comments in whatever encoding their tool wrote,
 // and bytes that must never reach a terminal unescaped.
 #include <cstddef>
+#include <filesystem>
 #include <string>
 #include <string_view>
 
@@ -24,5 +25,9 @@ std::string LinesToUtf8(std::string_view text);
 /// backslash and bytes that are not valid UTF-8 written as \xNN (a crafted file cannot drive the user's
 /// terminal), and cut after `max_bytes` input bytes with "..." appended.
 std::string QuoteForMessage(std::string_view text, size_t max_bytes = 80);
+
+/// A file's extension in lower case (".PNG" -> ".png"), ".jpeg" spelt ".jpg": file names users give may
+/// use any case, and the tool writes one spelling of each.
+std::string LowerExtension(const std::filesystem::path& file);
 
 }  // namespace mocap

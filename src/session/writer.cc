@@ -4,7 +4,6 @@
 
 #include <chrono>
 #include <algorithm>
-#include <cctype>
 #include <cerrno>
 #include <condition_variable>
 #include <cstdio>
@@ -19,6 +18,7 @@
 #include <thread>
 
 #include "core/check.h"
+#include "core/text.h"
 #include "core/utc_time.h"
 #include "core/log.h"
 #include "session/durable_file.h"
@@ -59,9 +59,7 @@ void RenameIntoPlace(const fs::path& temp, const fs::path& path) {
 }
 
 std::string ImportExtension(const fs::path& source, bool depth) {
-  std::string ext = source.extension().string();
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  if (ext == ".jpeg") ext = ".jpg";
+  const std::string ext = LowerExtension(source);
   const bool ok = depth ? (ext == ".png" || ext == ".exr") : (ext == ".png" || ext == ".jpg");
   if (!ok)
     throw InputError(source.string(), depth ? "depth images must be 16-bit .png or .exr" : "colour images must be .png or .jpg");

@@ -2,12 +2,12 @@
 
 #include <algorithm>
 #include <array>
-#include <cctype>
 #include <string>
 #include <fstream>
 #include <vector>
 
 #include "core/check.h"
+#include "core/text.h"
 
 namespace mocap::import {
 namespace {
@@ -51,9 +51,8 @@ void CheckImageComplete(const std::filesystem::path& image) {
 }
 
 void CheckImportableImage(const std::filesystem::path& image, bool depth) {
-  std::string ext = image.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  const bool ok = depth ? ext == ".png" : (ext == ".png" || ext == ".jpg" || ext == ".jpeg");
+  const std::string ext = LowerExtension(image);
+  const bool ok = depth ? ext == ".png" : (ext == ".png" || ext == ".jpg");
   if (!ok)
     throw InputError(image.string(), depth ? "depth images must be 16-bit PNG files" : "colour images must be PNG or JPEG files");
   if (std::filesystem::exists(image)) CheckImageComplete(image);
