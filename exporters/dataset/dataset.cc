@@ -37,15 +37,7 @@ std::vector<ObjectMasks> ReadFrameMasks(const ExportScene& scene, const ExportFr
       file = cv::imread(png.string(), cv::IMREAD_UNCHANGED);
       if (file.empty()) throw InputError(png.string(), "missing or not a readable PNG (the label run's packed masks)");
     }
-    if (*r.mask_row < 0 || file.cols < rect.width || file.rows < *r.mask_row + rect.height)
-      throw InputError(png.string(), Str("a ", file.cols, "x", file.rows, " mask file cannot hold instance ", r.instance,
-                                         "'s ", rect.width, "x", rect.height, " crop at row ", *r.mask_row));
-    try {
-      masks[i] = UnpackMasks(file(cv::Rect(0, *r.mask_row, rect.width, rect.height)), rect,
-                             r.visib_source == "measured_depth");
-    } catch (const InputError& e) {
-      throw InputError(png.string(), e.what());
-    }
+    masks[i] = MasksFromFile(file, png.string(), rect, r.visib_source == "measured_depth", *r.mask_row);
     masks[i].instance_id = static_cast<uint16_t>(r.instance);
   }
   return masks;

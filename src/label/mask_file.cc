@@ -78,17 +78,22 @@ ObjectMasks UnpackMasks(const cv::Mat& bits, const PixelRect& rect, bool has_mea
   return masks;
 }
 
-ObjectMasks ReadMaskFile(const std::filesystem::path& png, const PixelRect& rect, bool has_measured, int first_row) {
-  const cv::Mat file = cv::imread(png.string(), cv::IMREAD_UNCHANGED);
-  if (file.empty()) throw InputError(png.string(), "missing or not a readable PNG");
+ObjectMasks MasksFromFile(const cv::Mat& file, const std::string& where, const PixelRect& rect, bool has_measured,
+                          int first_row) {
   if (first_row < 0 || rect.width < 0 || rect.height < 0 || file.cols < rect.width || file.rows < first_row + rect.height)
-    throw InputError(png.string(), Str("a ", file.cols, "x", file.rows, " mask file cannot hold a ", rect.width, "x",
-                                       rect.height, " crop at row ", first_row, " (mask_rect / mask_row)"));
+    throw InputError(where, Str("a ", file.cols, "x", file.rows, " mask file cannot hold a ", rect.width, "x",
+                                rect.height, " crop at row ", first_row, " (mask_rect / mask_row)"));
   try {
     return UnpackMasks(file(cv::Rect(0, first_row, rect.width, rect.height)), rect, has_measured);
   } catch (const InputError& e) {
-    throw InputError(png.string(), e.what());
+    throw InputError(where, e.what());
   }
+}
+
+ObjectMasks ReadMaskFile(const std::filesystem::path& png, const PixelRect& rect, bool has_measured, int first_row) {
+  const cv::Mat file = cv::imread(png.string(), cv::IMREAD_UNCHANGED);
+  if (file.empty()) throw InputError(png.string(), "missing or not a readable PNG");
+  return MasksFromFile(file, png.string(), rect, has_measured, first_row);
 }
 
 }  // namespace mocap

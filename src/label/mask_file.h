@@ -6,6 +6,7 @@
 // (docs/labels.md). The masks are not nested (a pixel hidden in the model z-buffer can still agree with
 // the measured depth), hence bits rather than levels.
 #include <filesystem>
+#include <string>
 #include <opencv2/core/mat.hpp>
 
 #include "label/label_png.h"
@@ -37,6 +38,11 @@ cv::Mat StackMasks(const std::vector<PackedMasks*>& packed);
 /// `visib_source` is "measured_depth"); without it visible_measured stays empty. Throws InputError when
 /// `bits` does not have rect's size or holds values other than the three bits.
 ObjectMasks UnpackMasks(const cv::Mat& bits, const PixelRect& rect, bool has_measured);
+
+/// One object's masks from a frame's mask file already decoded (`file`, named `where` in errors), so a
+/// frame's objects share one decode. Throws InputError when the file's size cannot hold the crop.
+ObjectMasks MasksFromFile(const cv::Mat& file, const std::string& where, const PixelRect& rect, bool has_measured,
+                          int first_row = 0);
 
 /// Reads one object's masks from a frame's mask file; `rect` and `first_row` are its record's `mask_rect`
 /// and `mask_row`. Throws InputError for a missing or unreadable file or one whose size cannot hold them.
