@@ -227,7 +227,9 @@ TEST(Labeller, ACorruptDepthFileFlagsItsFrameInsteadOfStoppingTheRun) {
   for (const auto& line : lines) {
     const bool corrupt = line["index"] == 1;
     EXPECT_EQ(line["flags"].dump().find("unreadable_depth") != std::string::npos, corrupt) << line.dump();
-    if (corrupt) EXPECT_NE(line["reason"].get<std::string>().find(depth_file.filename().string()), std::string::npos);
+    if (corrupt) {
+      EXPECT_NE(line["reason"].get<std::string>().find(depth_file.filename().string()), std::string::npos);
+    }
     EXPECT_TRUE(line.contains("rvec")) << "the pose does not depend on the depth file";
   }
   LabelRunOptions strict = Options(dir / "L2");
