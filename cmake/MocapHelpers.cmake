@@ -29,10 +29,11 @@ function(mocap_add_library)
   mocap_set_warnings(${ARG_NAME})
 endfunction()
 
-# mocap_add_test(NAME module_what SRCS ... DEPS ... LABELS ...)
-# Registers each GoogleTest case with ctest as "module/Suite.Case" with the given labels (joined).
+# mocap_add_test(NAME module_what SRCS ... DEPS ... LABELS ... [PROPERTIES name value ...])
+# Registers each GoogleTest case with ctest as "module/Suite.Case" with the given labels (joined) and
+# test properties (single values, e.g. FIXTURES_REQUIRED and ENVIRONMENT for tests/slurm's cluster).
 function(mocap_add_test)
-  cmake_parse_arguments(ARG "" "NAME" "SRCS;DEPS;LABELS" ${ARGN})
+  cmake_parse_arguments(ARG "" "NAME" "SRCS;DEPS;LABELS;PROPERTIES" ${ARGN})
   add_executable(${ARG_NAME} ${ARG_SRCS})
   target_link_libraries(${ARG_NAME} PRIVATE ${ARG_DEPS} GTest::gtest GTest::gmock GTest::gtest_main)
   target_compile_definitions(${ARG_NAME} PRIVATE
@@ -43,7 +44,7 @@ function(mocap_add_test)
   # first element only, and ctest's -L / -LE take regular expressions, so `-L sim` and `-LE e2e` both
   # match the joined label.
   string(JOIN "-" label ${ARG_LABELS})
-  gtest_discover_tests(${ARG_NAME} TEST_PREFIX "${ARG_NAME}/" PROPERTIES LABELS "${label}"
+  gtest_discover_tests(${ARG_NAME} TEST_PREFIX "${ARG_NAME}/" PROPERTIES LABELS "${label}" ${ARG_PROPERTIES}
                        DISCOVERY_TIMEOUT 60)
 endfunction()
 

@@ -13,6 +13,8 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   clang libclang-rt-14-dev
   libpcl-dev
+  # the one-node Slurm cluster of the Slurm executor's tests (scripts/slurm-cluster.sh, docs/slurm-test-cluster.md)
+  munge slurmctld slurmd slurm-client
 )
 
 missing=()
@@ -33,5 +35,12 @@ else
   exit 1
 fi
 export DEBIAN_FRONTEND=noninteractive
+# munge, slurmctld and slurmd would start their system services from their maintainer scripts (invoke-rc.d;
+# without systemd that fails): a policy-rc.d answering 101 forbids it while we install, if there is none.
+if [[ ! -e /usr/sbin/policy-rc.d ]]; then
+  printf '#!/bin/sh\nexit 101\n' | "${sudo_cmd[@]}" tee /usr/sbin/policy-rc.d >/dev/null
+  "${sudo_cmd[@]}" chmod 755 /usr/sbin/policy-rc.d
+  trap '"${sudo_cmd[@]}" rm -f /usr/sbin/policy-rc.d' EXIT
+fi
 "${sudo_cmd[@]}" apt-get update -qq
 "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null

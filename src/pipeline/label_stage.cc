@@ -77,7 +77,8 @@ LabelRunResult RunLabel(const LabelRunRequest& request) {
   options.frame_begin = request.shard.begin;
   options.frame_end = request.shard.end;
   if (request.progress) options.progress = request.progress;
-  RunRecord record{request.command, {{"objects", objects_file, false, {}}}, request.shard.ToJson()};
+  RunRecord record{request.command, {{"objects", objects_file, false, {}}}, request.shard.ToJson(),
+                   ObjectsInSession(library, session.manifest())};
   if (!request.rig_file.empty()) record.inputs.push_back({"rig", request.rig_file, false, {}});
   LabelRunResult result;
   result.summary = WriteLabelRun(session, LabelObjectsOf(library), rig, options, request.out_dir, record);
@@ -94,7 +95,7 @@ LabelSummary WriteLabelRun(const SessionReader& session, const std::vector<Label
   std::vector<InputSpec> inputs = {SessionInput(session.dir())};
   inputs.insert(inputs.end(), record.inputs.begin(), record.inputs.end());
   for (InputSpec& mesh : MeshInputs(objects)) inputs.push_back(std::move(mesh));
-  WriteProvenance(output.dir(), "label", record.command, ToJson(options), inputs, record.shard);
+  WriteProvenance(output.dir(), "label", record.command, RecordedOptions(ToJson(options), record), inputs, record.shard);
   writer.Finish(LabelManifestJson(summary, session.dir(), out));
   output.Publish();
   return summary;

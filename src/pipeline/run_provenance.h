@@ -8,7 +8,9 @@
 #include <vector>
 
 #include "label/labeller.h"
+#include "pipeline/object_library.h"
 #include "pipeline/provenance.h"
+#include "session/manifest.h"
 #include "validate/session_check.h"
 
 namespace mocap::pipeline {
@@ -25,6 +27,16 @@ InputSpec RunFolderInput(const std::string& role, const std::filesystem::path& d
 /// The options a run used, for run.json (what changes the output; not threads or the EGL platform).
 nlohmann::json ToJson(const LabelOptions& options);
 nlohmann::json ToJson(const SessionCheckOptions& options);
+/// The options back from a run.json (strict: a missing or mistyped field is an InputError naming
+/// `where` and the field), so that a run can be redone as it was made (relabel).
+LabelOptions LabelOptionsFromJson(const nlohmann::json& json, const std::string& where);
+SessionCheckOptions SessionCheckOptionsFromJson(const nlohmann::json& json, const std::string& where);
+
+/// {object name: digest of its objects.yaml entry} for the library's objects that a tracker of the
+/// session reports a body of: what a label or validation run of that session depends on in the library.
+/// A run records it (options `objects_in_session`) so that editing another object's entry does not
+/// make it stale (docs/relabel.md). The mesh file is not in the digest: it is an input of its own.
+nlohmann::json ObjectsInSession(const ObjectLibrary& library, const SessionManifest& manifest);
 
 /// What a command adds to a run's provenance: its argv, the input files it read besides those the run
 /// derives itself (the session, the meshes), and the shard it ran over.
@@ -32,11 +44,14 @@ struct RunRecord {
   std::vector<std::string> command;
   std::vector<InputSpec> inputs;
   nlohmann::json shard = nullptr;
+  nlohmann::json objects_in_session = nullptr;  ///< ObjectsInSession; null: not recorded
 };
 
 /// Fingerprints `inputs` (through the hash cache) and writes `dir`/run.json.
 void WriteProvenance(const std::filesystem::path& dir, const std::string& kind, const std::vector<std::string>& command,
                      const nlohmann::json& options, const std::vector<InputSpec>& inputs,
                      const nlohmann::json& shard = nullptr);
+/// `options` with record.objects_in_session added (when recorded), as run.json holds them.
+nlohmann::json RecordedOptions(nlohmann::json options, const RunRecord& record);
 
 }  // namespace mocap::pipeline

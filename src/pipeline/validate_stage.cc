@@ -29,7 +29,8 @@ SessionValidation RunValidate(const ValidateRunRequest& request) {
   if (request.progress) options.progress = request.progress;
   for (const std::string& name : request.skip_object_names)
     if (const LibraryObject* o = library.Find(name)) options.skip_objects.push_back(o->id);
-  const RunRecord record{request.command, {{"objects", objects_file, false, {}}}, request.shard.ToJson()};
+  const RunRecord record{request.command, {{"objects", objects_file, false, {}}}, request.shard.ToJson(),
+                         ObjectsInSession(library, session.manifest())};
   return ValidateIntoRun(session, ValidationObjectsOf(library), LabelRunViewOf(labels, request.shard.begin, request.shard.end),
                          options, request.out_dir, record);
 }
@@ -43,7 +44,7 @@ SessionValidation ValidateIntoRun(const SessionReader& session, const std::vecto
   std::vector<InputSpec> inputs = {SessionInput(session.dir()), RunFolderInput("labels", options.labels_dir)};
   inputs.insert(inputs.end(), record.inputs.begin(), record.inputs.end());
   for (InputSpec& mesh : MeshInputs(objects)) inputs.push_back(std::move(mesh));
-  WriteProvenance(output.dir(), "validation", record.command, ToJson(options), inputs, record.shard);
+  WriteProvenance(output.dir(), "validation", record.command, RecordedOptions(ToJson(options), record), inputs, record.shard);
   WriteValidationRun(validation, options, session.dir(), output.dir(), out);
   output.Publish();
   return validation;
