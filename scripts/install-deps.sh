@@ -13,6 +13,8 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   clang libclang-rt-14-dev
   libpcl-dev
+  # src/calibrate: ChArUco detection (OpenCV contrib aruco) and the camera-mount refinement (Ceres)
+  libopencv-contrib-dev libceres-dev
   # the one-node Slurm cluster of the Slurm executor's tests (scripts/slurm-cluster.sh, docs/slurm-test-cluster.md)
   munge slurmctld slurmd slurm-client
 )

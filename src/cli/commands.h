@@ -18,6 +18,7 @@ int RunDemo(int argc, char** argv);
 int RunCapture(int argc, char** argv);
 int RunExport(int argc, char** argv);
 int RunRelabel(int argc, char** argv);
+int RunCalibrate(int argc, char** argv);
 
 /// "mocaplabel <subcommand> <arguments...>" as a user typed it (argv[0] is the subcommand's name), for
 /// the run.json of the runs a command writes.

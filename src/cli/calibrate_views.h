@@ -1,0 +1,54 @@
+#pragma once
+// What `mocaplabel calibrate` reads from a session: the camera, its rig entry, the board in every Nth
+// colour frame, and for the mount the tracked camera and board bodies at each frame's time (with the
+// rig's latency), and how it prints the results.
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "calibrate/camera_mount.h"
+#include "calibrate/intrinsics.h"
+#include "calibrate/latency.h"
+#include "pipeline/rig.h"
+#include "session/reader.h"
+
+namespace mocap::cli {
+
+struct CalibrationInputs {
+  SessionReader session;
+  pipeline::Rig rig;  ///< --rig, or one made from the calibration recorded in the session
+  std::string camera_name, camera_body;
+  PinholeCamera intrinsics;
+  int64_t latency_ns = 0;
+};
+
+/// InputError for a camera the session does not have, or a rig file that does not fit the session.
+CalibrationInputs OpenCalibrationInputs(const std::filesystem::path& session, const std::filesystem::path& rig_file,
+                                        const std::string& camera);
+
+struct CalibrationViews {
+  std::vector<BoardDetection> detections;  ///< one per frame looked at (intrinsics) or per mount view
+  std::vector<MountView> mount_views;      ///< with_poses only; parallel to `detections`
+  std::vector<int64_t> frame_index;        ///< parallel to `detections`: the camera frame
+  cv::Size image_size;
+  int frames_without_poses = 0;            ///< with_poses: frames where a body's pose was not known
+};
+
+/// Detects the board in every `every`-th colour frame. With poses, keeps only the frames where the
+/// board was found and both bodies' poses are known at the frame's time + the rig's latency; InputError
+/// naming the body when the session's trackers do not report it, or the camera has no body.
+CalibrationViews DetectViews(const CalibrationInputs& in, const BoardSpec& spec, int every, bool with_poses,
+                             const std::string& board_body);
+
+/// inv(T_tracker_cambody(t)) * T_tracker_boardbody(t) from the session's streams (calibrate/latency.h);
+/// InputError naming a body no tracker reports.
+RelativePoseAt BodyPair(const CalibrationInputs& in, const std::string& board_body);
+
+void SetIntrinsics(pipeline::Rig& rig, const std::string& camera, const PinholeCamera& intrinsics);
+void SetMount(pipeline::Rig& rig, const std::string& camera, const std::string& body, const Rigid3d& T_body_camera);
+
+void PrintIntrinsics(const std::string& camera, const IntrinsicsResult& r, const CalibrationViews& views);
+void PrintCameraMount(const CalibrationInputs& in, const CameraMountResult& r, const CalibrationViews& views);
+
+}  // namespace mocap::cli
