@@ -36,6 +36,10 @@ struct CheckRecord {
   int64_t stamp_ns = 0;
   Rigid3d T_camera_mesh_label;
   Rigid3d T_camera_mesh_segicp;
+  /// The axis of a body of revolution (mesh frame; zero for none): the validator reports its estimate
+  /// with the label's spin (validate/label_check.h ApplySymmetry), so the rotation about this axis is
+  /// not a measurement and is left out of the residual.
+  Eigen::Vector3d spin_axis_mesh = Eigen::Vector3d::Zero();
 };
 
 struct CalibrationCheckOptions {

@@ -40,6 +40,9 @@ struct RecordCost {
     T q_err[4], aa_err[3];
     ceres::QuaternionProduct(q_segicp, q_pred_conj, q_err);
     ceres::QuaternionToAngleAxis(q_err, aa_err);
+    // A body of revolution's spin is the label's by construction: only the tilt of its axis counts.
+    const T along = aa_err[0] * r_.spin_axis_camera.x() + aa_err[1] * r_.spin_axis_camera.y() + aa_err[2] * r_.spin_axis_camera.z();
+    for (int i = 0; i < 3; ++i) aa_err[i] -= along * r_.spin_axis_camera(i);
     for (int i = 0; i < 3; ++i) {
       residual[i] = aa_err[i] / r_.sigma_rad;
       residual[3 + i] = (T(r_.p_segicp_m(i)) - p_pred[i]) / r_.sigma_m;

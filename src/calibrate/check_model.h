@@ -21,6 +21,7 @@ struct ModelRecord {
   Eigen::Vector3d v_m_per_s = Eigen::Vector3d::Zero();    ///< label's velocity, camera frame
   Eigen::Vector3d w_rad_per_s = Eigen::Vector3d::Zero();  ///< label's angular velocity, camera frame
   bool has_motion = false;
+  Eigen::Vector3d spin_axis_camera = Eigen::Vector3d::Zero();  ///< unit, or zero: see CheckRecord
   double sigma_m = 1e-3, sigma_rad = 1e-3;  ///< the object's robust residual scales
 };
 

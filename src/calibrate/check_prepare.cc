@@ -26,6 +26,7 @@ Prepared BuildIndex(std::span<const CheckRecord> records) {
     m.q_label = r.T_camera_mesh_label.rotation(), m.q_segicp = r.T_camera_mesh_segicp.rotation();
     if (m.q_label.dot(m.q_segicp) < 0) m.q_segicp.coeffs() *= -1;
     m.p_label_m = r.T_camera_mesh_label.translation(), m.p_segicp_m = r.T_camera_mesh_segicp.translation();
+    if (r.spin_axis_mesh.norm() > 0) m.spin_axis_camera = r.T_camera_mesh_label.rotation() * r.spin_axis_mesh.normalized();
     model.push_back(m);
     tracks[{r.camera, r.instance}].push_back(static_cast<int>(i));
   }

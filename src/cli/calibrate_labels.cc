@@ -2,6 +2,7 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <map>
 #include <nlohmann/json.hpp>
 
 #include "cli/calibrate_views.h"
@@ -125,11 +126,18 @@ int CalibrateObjectMountFromLabels(const LabelsCalibrationArgs& a, const ObjectM
 namespace mocap::cli {
 namespace {
 
-std::vector<CheckRecord> CheckRecordsOf(const pipeline::ValidationRun& run) {
+/// The run's records with a reliable estimate; a body of revolution (the continuous symmetry the
+/// validator compares modulo) gets its axis.
+std::vector<CheckRecord> CheckRecordsOf(const pipeline::ValidationRun& run, const pipeline::ObjectLibrary& library) {
+  std::map<int, Eigen::Vector3d> spin_axes;
+  for (const ValidationObject& o : pipeline::ValidationObjectsOf(library))
+    if (o.symmetry && o.symmetry->step_deg == 0) spin_axes[o.id] = o.symmetry->axis_object;
   std::vector<CheckRecord> records;
   for (const RecordCheck& r : run.records)
-    if (r.check.estimated && r.check.segicp_reliable)
+    if (r.check.estimated && r.check.segicp_reliable) {
       records.push_back({r.camera, r.name, r.instance, r.stamp_ns, r.T_camera_object_label, r.check.T_camera_object_segicp});
+      if (spin_axes.count(r.object)) records.back().spin_axis_mesh = spin_axes[r.object];
+    }
   return records;
 }
 
@@ -222,7 +230,7 @@ int CheckCalibrationOfLabels(const LabelsCalibrationArgs& a, const CalibrationCh
   RefuseExisting(a.write_rig, a.force);
   RefuseExisting(a.write_objects, a.force);
   const pipeline::ValidationRun run = pipeline::ValidationRun::Read(a.validation);
-  const std::vector<CheckRecord> records = CheckRecordsOf(run);
+  const std::vector<CheckRecord> records = CheckRecordsOf(run, Library(a));
   const CalibrationCheckResult result = CheckCalibration(records, options);
   const Corrected c = ApplyFindings(a, result, records.front().camera);
   if (a.json) {
