@@ -1,4 +1,4 @@
-// mocaplabel validate S --labels L [--masks DIR] [--out DIR]: the SegICP check of every label against the
+// mocaplabel validate S --labels L [--masks DIR] [--skip-objects A,B | --objects-only A,B] [--out DIR]: the SegICP check of every label against the
 // measured depth (src/validate/session_check.h), with validation.jsonl, validation.json and report.html.
 #include <CLI/CLI.hpp>
 #include <cstdio>
@@ -62,6 +62,11 @@ int RunValidate(int argc, char** argv) {
   app.add_flag("--track", options.track, "sequence mode: a Kalman tracker per object instance over its frames");
   app.add_option("--threads", options.threads, "worker threads (0: one per core)")->check(CLI::Range(0, 256));
   app.add_option("--platform", platform, "EGL platform for --crops renderer: auto, surfaceless or device");
+  CLI::Option* skip = app.add_option("--skip-objects", request.skip_object_names, "leave out these objects (names, comma-separated)")
+                         ->delimiter(',');
+  app.add_option("--objects-only", request.only_object_names, "check only these objects (names, comma-separated)")
+      ->delimiter(',')
+      ->excludes(skip);
   app.add_flag("--json", json, "print validation.json on stdout");
   ProgressFlags progress_flags;
   AddProgressFlags(app, progress_flags);

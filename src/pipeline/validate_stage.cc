@@ -1,5 +1,6 @@
 #include "pipeline/validate_stage.h"
 
+#include <algorithm>
 #include <set>
 
 #include "core/check.h"
@@ -15,6 +16,20 @@ namespace {
 
 namespace fs = std::filesystem;
 
+/// The ids of the objects the request leaves out (`--skip-objects`, or all but `--objects-only`).
+std::vector<int> SkippedObjectIds(const ValidateRunRequest& request, const ObjectLibrary& library) {
+  for (const std::vector<std::string>* names : {&request.skip_object_names, &request.only_object_names})
+    for (const std::string& name : *names)
+      if (!library.Find(name)) throw InputError(library.file.string(), "has no object '" + name + "' (named to validate or leave out)");
+  std::vector<int> ids;
+  for (const LibraryObject& o : library.objects) {
+    const auto named = [&](const std::vector<std::string>& names) { return std::ranges::count(names, o.name) > 0; };
+    if (named(request.skip_object_names) || (!request.only_object_names.empty() && !named(request.only_object_names)))
+      ids.push_back(o.id);
+  }
+  return ids;
+}
+
 }  // namespace
 
 SessionValidation RunValidate(const ValidateRunRequest& request) {
@@ -27,8 +42,7 @@ SessionValidation RunValidate(const ValidateRunRequest& request) {
   options.frame_begin = request.shard.begin;
   options.frame_end = request.shard.end;
   if (request.progress) options.progress = request.progress;
-  for (const std::string& name : request.skip_object_names)
-    if (const LibraryObject* o = library.Find(name)) options.skip_objects.push_back(o->id);
+  for (int id : SkippedObjectIds(request, library)) options.skip_objects.push_back(id);
   const RunRecord record{request.command, {{"objects", objects_file, false, {}}}, request.shard.ToJson(),
                          ObjectsInSession(library, session.manifest())};
   return ValidateIntoRun(session, ValidationObjectsOf(library), LabelRunViewOf(labels, request.shard.begin, request.shard.end),

@@ -19,7 +19,9 @@ struct ValidateRunRequest {
   std::filesystem::path out_dir;
   SessionCheckOptions check;           ///< labels_dir is set from above
   Shard shard;
-  std::vector<std::string> skip_object_names;  ///< objects left out like skipped frames (by name)
+  /// Objects left out like skipped frames (by name), or all but `only_object_names` when that is not
+  /// empty; a name the object library does not have is an InputError.
+  std::vector<std::string> skip_object_names, only_object_names;
   std::vector<std::string> command;
   ProgressSink* progress = nullptr;
 };

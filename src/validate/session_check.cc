@@ -282,6 +282,9 @@ SessionValidation CheckSession(const SessionReader& session, const std::vector<V
     if (it != objects.end() && it->symmetry) ApplySymmetry(r.T_camera_object_label, *it->symmetry, options.validate, &r.check);
   }
   out.summary = Summarise(records, labels.total);
+  if (records.empty() && skipped > 0)
+    out.summary.nothing_checked_why = Str("all ", skipped, " label records with a pose were left out (by frame range, frame stride ",
+                                          options.frame_stride, " or ", options.skip_objects.size(), " objects left out)");
   out.summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   out.records = std::move(records);
   return out;

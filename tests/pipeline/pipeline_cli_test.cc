@@ -173,6 +173,35 @@ TEST(PipelineCli, UsageErrorsAreOneLineWithOneStatus) {
   EXPECT_EQ(Mocaplabel({"label", "--help"}, log).exit_code, 0);
 }
 
+TEST(PipelineCli, ValidateChecksTheObjectsNamedAndSaysWhenNoneWasLeft) {
+  const testing::Inputs in = testing::MakeInputs("cli_validate_objects", 2);
+  const fs::path log = in.dir / "log.txt";
+  ASSERT_EQ(Mocaplabel(LabelArgs(in, in.dir / "L"), log).exit_code, 0);
+  const std::vector<std::string> base = {"validate", in.session.string(), "--labels", (in.dir / "L").string(), "--objects",
+                                         in.objects.string(), "--json"};
+  auto validate = [&](std::vector<std::string> extra, const std::string& out) {
+    std::vector<std::string> args = base;
+    extra.insert(extra.end(), {"--out", (in.dir / out).string()});
+    args.insert(args.end(), extra.begin(), extra.end());
+    return Mocaplabel(args, log);
+  };
+  const testing::ProcessResult only = validate({"--objects-only", "box"}, "V1");
+  ASSERT_EQ(only.exit_code, 0) << only.output;
+  const nlohmann::json checked = nlohmann::json::parse(only.output.substr(only.output.rfind("\n{") + 1));
+  EXPECT_EQ(checked["records"], 2) << only.output;
+  const testing::ProcessResult skip = validate({"--skip-objects", "box"}, "V2");
+  ASSERT_EQ(skip.exit_code, 0) << skip.output;
+  const nlohmann::json none = nlohmann::json::parse(skip.output.substr(skip.output.rfind("\n{") + 1));
+  EXPECT_EQ(none["records_checked"], 0);
+  EXPECT_EQ(none["nothing_checked_why"], "all 2 label records with a pose were left out (by frame range, frame stride 1 or 1 objects left out)");
+  // A misspelt name is an error naming the library, not a silent check of everything.
+  const testing::ProcessResult typo = validate({"--skip-objects", "bx"}, "V3");
+  EXPECT_EQ(typo.exit_code, 1) << typo.output;
+  EXPECT_NE(typo.output.find(in.objects.string() + ": has no object 'bx'"), std::string::npos) << typo.output;
+  EXPECT_FALSE(fs::exists(in.dir / "V3"));
+  EXPECT_EQ(validate({"--skip-objects", "box", "--objects-only", "box"}, "V4").exit_code, 2);
+}
+
 TEST(PipelineCli, AnEmptyFileAtOutIsNeverReplaced) {
   const testing::Inputs in = testing::MakeInputs("cli_out_file", 1);
   const fs::path file = in.dir / "notes.txt";
