@@ -2,6 +2,7 @@
 // MTL + PNG) whose frame is the board frame (calibrate/board.h), so that the simulator renders it and
 // the object library can list it like any object.
 #include "cli/calibrate_board_mesh.h"
+#include "cli/calibrate_views.h"
 
 #include <Eigen/LU>
 #include <fstream>
@@ -13,10 +14,6 @@ namespace mocap::cli {
 namespace {
 
 namespace fs = std::filesystem;
-
-void RefuseExisting(const fs::path& file, bool force) {
-  if (!force && fs::exists(file)) throw InputError(file.string(), "exists; pass --force to replace it");
-}
 
 void WriteImage(const fs::path& file, const cv::Mat& image) {
   if (!cv::imwrite(file.string(), image)) throw InputError(file.string(), "cannot be written");

@@ -41,10 +41,6 @@ std::string RigFile(const LabelsCalibrationArgs& a) {
   return a.rig.empty() ? RecordedInput(LabelsDir(a), "rig").string() : a.rig;
 }
 
-void RefuseExisting(const std::string& file, bool force) {
-  if (!file.empty() && !force && fs::exists(file)) throw InputError(file, "exists; pass --force to replace it");
-}
-
 json PoseJson(const Rigid3d& T) {
   const Eigen::Quaterniond& q = T.rotation();
   return {{"translation_m", {T.translation().x(), T.translation().y(), T.translation().z()}},

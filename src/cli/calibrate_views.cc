@@ -106,6 +106,10 @@ RelativePoseAt BodyPair(const CalibrationInputs& in, const std::string& board_bo
   return RelativePoseFromStreams(std::move(streams[0]), std::move(streams[1]));
 }
 
+void RefuseExisting(const fs::path& file, bool force) {
+  if (!file.empty() && !force && fs::exists(file)) throw InputError(file.string(), "exists; pass --force to replace it");
+}
+
 void SetIntrinsics(pipeline::Rig& rig, const std::string& camera, const PinholeCamera& intrinsics) {
   Entry(rig, camera).intrinsics = intrinsics;
 }

@@ -45,6 +45,10 @@ CalibrationViews DetectViews(const CalibrationInputs& in, const BoardSpec& spec,
 /// InputError naming a body no tracker reports.
 RelativePoseAt BodyPair(const CalibrationInputs& in, const std::string& board_body);
 
+/// InputError "exists; pass --force to replace it" for an existing `file` unless `force` ("" passes):
+/// a calibration never replaces a file silently.
+void RefuseExisting(const std::filesystem::path& file, bool force);
+
 void SetIntrinsics(pipeline::Rig& rig, const std::string& camera, const PinholeCamera& intrinsics);
 void SetMount(pipeline::Rig& rig, const std::string& camera, const std::string& body, const Rigid3d& T_body_camera);
 

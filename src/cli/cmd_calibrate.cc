@@ -1,4 +1,4 @@
-// mocaplabel calibrate board|intrinsics|camera-mount|latency|object-mount|check: the calibration procedures of src/calibrate on a
+// mocaplabel calibrate board|intrinsics|camera-mount|latency|pivot|object-mount|check: the calibration procedures of src/calibrate on a
 // recorded session (docs/calibration.md). The results go into a rig file through the pipeline's strict
 // writer, with where they came from in its comment lines; an existing file is never replaced silently.
 #include <CLI/CLI.hpp>
@@ -11,6 +11,7 @@
 #include "calibrate/latency.h"
 #include "calibrate/intrinsics.h"
 #include "cli/board_yaml.h"
+#include "cli/calibrate_pointer.h"
 #include "cli/calibrate_labels.h"
 #include "cli/calibrate_board_mesh.h"
 #include "cli/calibrate_views.h"
@@ -65,9 +66,7 @@ void WriteRigOut(const Common& c, const pipeline::Rig& rig, const std::string& w
 }
 
 /// Before any work: an existing --out is refused unless --force.
-void CheckOut(const Common& c) {
-  if (!c.out.empty() && !c.force && fs::exists(c.out)) throw InputError(c.out, "exists; pass --force to replace it");
-}
+void CheckOut(const Common& c) { RefuseExisting(c.out, c.force); }
 
 int Intrinsics(const Common& c, const IntrinsicsOptions& options) {
   CheckOut(c);
@@ -145,7 +144,7 @@ void AddLabelInputs(CLI::App& app, LabelsCalibrationArgs& a) {
 }  // namespace
 
 int RunCalibrate(int argc, char** argv) {
-  CLI::App app{"Calibrate the rig from a recorded session: board, intrinsics, camera-mount, latency, object-mount, check", "mocaplabel calibrate"};
+  CLI::App app{"Calibrate the rig from a recorded session: board, intrinsics, camera-mount, latency, pivot, object-mount, check", "mocaplabel calibrate"};
   app.require_subcommand(1);
   std::string board_file, board_out;
   int pixels_per_square = 100;
@@ -188,6 +187,21 @@ int RunCalibrate(int argc, char** argv) {
   object->add_option("--frame-stride", object_args.frame_stride, "check every Nth frame")->check(CLI::Range(1, 1 << 20));
   object->add_option("--min-records", object_options.min_records, "reliable records needed")->check(CLI::Range(3, 1 << 20));
   object->add_option("--out", object_args.out, "write the object library with the new mount into this file");
+  PointerArgs pointer_args;
+  TouchOptions touch_options;
+  object->add_option("--pointer", pointer_args.pointer, "pointer file (calibrate pivot): from landmarks touched with it, not the depth");
+  object->add_option("--landmarks", pointer_args.landmarks, "landmarks file: the mesh points touched, in order (with --pointer)");
+  object->add_option("--min-still-s", touch_options.min_still_s, "a touch: the tip at rest this long")->check(CLI::PositiveNumber);
+
+  PivotOptions pivot_options;
+  CLI::App* pivot = app.add_subcommand("pivot", "a tracked pointer's tip from pivoting it in a divot");
+  pivot->add_option("session", pointer_args.session, "session folder")->required();
+  pivot->add_option("--pointer-body", pointer_args.pointer_body, "the pointer's tracker body")->required();
+  pivot->add_option("--from-s", pointer_args.from_s, "use the poses from this many seconds after the first")->check(CLI::NonNegativeNumber);
+  pivot->add_option("--to-s", pointer_args.to_s, "... up to this many seconds after the first (default: the end)")->check(CLI::NonNegativeNumber);
+  pivot->add_option("--out", pointer_args.out, "write the pointer file");
+  pivot->add_flag("--force", pointer_args.force, "replace the pointer file when it exists");
+  pivot->add_flag("--json", pointer_args.json, "print the result as one JSON object");
 
   LabelsCalibrationArgs check_args;
   CalibrationCheckOptions check_options;
@@ -210,6 +224,15 @@ int RunCalibrate(int argc, char** argv) {
   }
   if (*intrinsics) return Intrinsics(intrinsics_args, intrinsics_options);
   if (*latency) return Latency(latency_args, latency_board_body, latency_options);
+  if (*pivot) return CalibratePivotOfSession(pointer_args, pivot_options);
+  if (*object && (!pointer_args.pointer.empty() || !pointer_args.landmarks.empty())) {
+    if (pointer_args.pointer.empty() || pointer_args.landmarks.empty())
+      throw InputError("calibrate object-mount", "--pointer and --landmarks go together");
+    if (!object_args.validation.empty()) throw InputError("calibrate object-mount", "--validation is for the mount from depth, not with --pointer");
+    pointer_args.session = object_args.session, pointer_args.object = object_args.object, pointer_args.objects = object_args.objects;
+    pointer_args.out = object_args.out, pointer_args.force = object_args.force, pointer_args.json = object_args.json;
+    return CalibrateObjectMountFromPointer(pointer_args, touch_options);
+  }
   if (*object) return CalibrateObjectMountFromLabels(object_args, object_options);
   if (*check) return CheckCalibrationOfLabels(check_args, check_options);
   return CameraMount(mount_args, board_body, mount_options);

@@ -39,7 +39,8 @@ sources_of() {
     session) echo src/session/manifest.cc src/session/records.cc src/session/record_file.cc src/session/json_fields.cc \
                   src/session/reader.cc src/core/text.cc ;;
     png) echo src/session/png_gray16.cc ;;
-    yaml) echo src/pipeline/yaml_read.cc src/pipeline/rig.cc src/pipeline/object_library.cc src/cli/scenario_yaml.cc ;;
+    yaml) echo src/pipeline/yaml_read.cc src/pipeline/rig.cc src/pipeline/object_library.cc src/cli/scenario_yaml.cc \
+                src/cli/pointer_yaml.cc ;;
     mesh) echo src/render/mesh_file_check.cc src/render/mesh_file_check_ply.cc src/render/mesh.cc src/core/text.cc ;;
     *) echo "fuzz.sh: no fuzzer '$1' (${all_fuzzers[*]})" >&2; return 1 ;;
   esac

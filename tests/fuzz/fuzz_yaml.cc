@@ -1,6 +1,6 @@
-// The strict YAML readers: rig files (pipeline/rig.h), object libraries (pipeline/object_library.h) and
-// simulation scenarios (cli/scenario_yaml.h). The first byte selects the reader (0 rig, 1 objects,
-// 2 scenario), the rest is the file. What reads is also written back and read again: the writer's text
+// The strict YAML readers: rig files (pipeline/rig.h), object libraries (pipeline/object_library.h),
+// simulation scenarios (cli/scenario_yaml.h), pointer and landmarks files (cli/pointer_yaml.h). The first
+// byte selects the reader (0 rig, 1 objects, 2 scenario, 3 pointer, 4 landmarks), the rest is the file. What reads is also written back and read again: the writer's text
 // must read, and write the same text again (a file this tool writes must always load), numbers to 1e-12.
 #include <algorithm>
 #include <cmath>
@@ -11,6 +11,7 @@
 #include <sstream>
 #include <string>
 
+#include "cli/pointer_yaml.h"
 #include "cli/scenario_yaml.h"
 #include "fuzz_common.h"
 #include "pipeline/object_library.h"
@@ -87,16 +88,33 @@ void FuzzScenario(const std::string& text) {
   RoundTrip("scenario", text, ParseScenarioYaml, EncodeScenarioYaml, "scenario.yaml");
 }
 
+/// What a pointer or landmarks file reads to is finite and complete (the CLI writes pointer files with
+/// the same emitter as the rig).
+void FuzzPointer(const std::string& text) {
+  using namespace mocap::cli;
+  const PointerTool pointer = ParsePointer(text, "pointer.yaml");
+  if (!pointer.tip_m.allFinite()) std::abort();
+}
+
+void FuzzLandmarks(const std::string& text) {
+  const mocap::cli::Landmarks landmarks = mocap::cli::ParseLandmarks(text, "landmarks.yaml");
+  if (landmarks.names.size() != landmarks.p_mesh_m.size() || landmarks.names.size() < 3) std::abort();
+  for (const Eigen::Vector3d& p : landmarks.p_mesh_m)
+    if (!p.allFinite()) std::abort();
+}
+
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (size == 0) return 0;
   const std::string text(reinterpret_cast<const char*>(data + 1), size - 1);
   mocap::fuzz::ExpectValueOrInputError("fuzz_yaml", [&] {
-    switch (data[0] % 3) {
+    switch (data[0] % 5) {
       case 0: return FuzzRig(text);
       case 1: return FuzzObjects(text);
-      default: return FuzzScenario(text);
+      case 2: return FuzzScenario(text);
+      case 3: return FuzzPointer(text);
+      default: return FuzzLandmarks(text);
     }
   });
   return 0;

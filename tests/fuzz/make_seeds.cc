@@ -209,6 +209,9 @@ void SeedsYaml(const fs::path& out) {
     for (size_t i = 0; i < blocks.size(); ++i)
       Seed(out, std::string("docs_") + page + "_" + std::to_string(i), selector, {blocks[i]});
   }
+  Seed(out, "pointer", 3, {"# pointer tip by pivot calibration\npointer_body: pointer_body\ntip_m: [0.012, 0.021, -0.175]\n"});
+  Seed(out, "landmarks", 4, {"unit: mm\nlandmarks:\n  - {name: plug_1, mesh: [-135, 0, 305]}\n  - {name: plug_4, mesh: [135, 0, 305]}\n"
+                             "  - {name: pulley, mesh: [227, 0, 105]}\n  - name: filter\n    mesh: [60, -228, 110]\n"});
 }
 
 /// The first `vertices` vertices of a text PLY with the faces among them, as PLY, OBJ and STL text.
