@@ -5,6 +5,8 @@ set -euo pipefail
 
 packages=(
   build-essential cmake ninja-build pkg-config git
+  # the linker CMakeLists.txt picks when present (GNU ld is several times slower on these static libraries)
+  lld
   libeigen3-dev nlohmann-json3-dev libyaml-cpp-dev libcli11-dev
   libspdlog-dev libfmt-dev
   libopencv-dev libopenexr-dev zlib1g-dev libdeflate-dev libxxhash-dev libassimp-dev libnanoflann-dev
