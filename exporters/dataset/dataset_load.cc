@@ -76,13 +76,14 @@ void CheckValidationOfLabels(const pipeline::ValidationRun& validation, const fs
                      Str("this validation run checked label run '", recorded, "', not '", labels_dir.string(), "'"));
 }
 
-ExportScene MakeScene(const CameraStreamInfo& info, const PinholeCamera& color_camera) {
+/// `rig_camera`: the label run's rig entry for the camera; its T_color_depth replaces the device's.
+ExportScene MakeScene(const CameraStreamInfo& info, const PinholeCamera& color_camera, const LabelRigCamera* rig_camera) {
   ExportScene scene;
   scene.camera = info.name;
   scene.camera_model = info.model;
   scene.color_camera = color_camera;
   scene.depth_camera = info.depth_registered_to_color ? color_camera : info.depth_camera;
-  scene.T_color_depth = info.T_color_depth;
+  scene.T_color_depth = rig_camera && rig_camera->T_color_depth ? *rig_camera->T_color_depth : info.T_color_depth;
   scene.depth_registered_to_color = info.depth_registered_to_color;
   scene.depth_unit_m = info.depth_unit_m;
   return scene;
@@ -155,7 +156,7 @@ void AddInput(Dataset& dataset, const ExportInput& input, std::map<std::string, 
     if (info == nullptr)
       throw InputError(labels.layout.manifest_json().string(), Str("camera '", name, "' is not in the session"));
     const PoseChain chain(*session, name, {}, rig);
-    ExportScene scene = MakeScene(*info, chain.camera());
+    ExportScene scene = MakeScene(*info, chain.camera(), rig.Find(name));
     scene.scene_id = static_cast<int>(dataset.scenes.size()) + 1;
     scene.name = session_dir.filename().string() + "/" + name;
     scene.session_dir = session_dir, scene.labels_dir = labels_dir, scene.validation_dir = validation_dir;

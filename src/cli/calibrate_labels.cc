@@ -41,12 +41,6 @@ std::string RigFile(const LabelsCalibrationArgs& a) {
   return a.rig.empty() ? RecordedInput(LabelsDir(a), "rig").string() : a.rig;
 }
 
-json PoseJson(const Rigid3d& T) {
-  const Eigen::Quaterniond& q = T.rotation();
-  return {{"translation_m", {T.translation().x(), T.translation().y(), T.translation().z()}},
-          {"rotation_wxyz", {q.w(), q.x(), q.y(), q.z()}}};
-}
-
 /// The object's records with a reliable SegICP estimate: from --validation, or checked here.
 std::vector<RecordCheck> ObjectRecords(const LabelsCalibrationArgs& a, const pipeline::ObjectLibrary& library, int object_id) {
   std::vector<RecordCheck> all;

@@ -132,9 +132,7 @@ int CalibrateObjectMountFromPointer(const PointerArgs& a, const TouchOptions& op
     json per = json::array();
     for (size_t i = 0; i < touches.size(); ++i)
       per.push_back({{"name", landmarks.names[i]}, {"fre_mm", r.fre_mm[i]}, {"rest_spread_mm", touches[i].spread_mm}, {"samples", touches[i].samples}});
-    std::printf("%s\n", json{{"object", a.object}, {"body", mount.body}, {"T_body_mesh", {{"translation_m", Vector(r.T_objbody_mesh.translation())},
-                             {"rotation_wxyz", {r.T_objbody_mesh.rotation().w(), r.T_objbody_mesh.rotation().x(), r.T_objbody_mesh.rotation().y(),
-                              r.T_objbody_mesh.rotation().z()}}}}, {"fre_rms_mm", r.fre_rms_mm}, {"landmarks", per},
+    std::printf("%s\n", json{{"object", a.object}, {"body", mount.body}, {"T_body_mesh", PoseJson(r.T_objbody_mesh)}, {"fre_rms_mm", r.fre_rms_mm}, {"landmarks", per},
                              {"rests", rests.size()}, {"distance_rms_mm", match.distance_rms_mm}, {"change_mm", 1e3 * change.translation().norm()}, {"change_deg", DegFromRad(change.rvec().norm())}}
                             .dump().c_str());
   } else {

@@ -14,7 +14,7 @@ pipeline::Rig RigOfSession(const SessionReader& session) {
   pipeline::Rig rig;
   rig.name = session.dir().filename().string();
   for (const CameraStreamInfo& c : session.manifest().cameras) {
-    pipeline::RigCameraCalibration cal{c.name, c.color_camera, std::nullopt, std::nullopt};
+    pipeline::RigCameraCalibration cal{c.name, c.color_camera, std::nullopt, std::nullopt, std::nullopt};
     if (!c.camera_body.empty()) cal.body = c.camera_body, cal.T_body_camera = c.T_body_camera;
     rig.cameras.push_back(cal);
   }
@@ -24,7 +24,7 @@ pipeline::Rig RigOfSession(const SessionReader& session) {
 pipeline::RigCameraCalibration& Entry(pipeline::Rig& rig, const std::string& camera) {
   for (pipeline::RigCameraCalibration& c : rig.cameras)
     if (c.name == camera) return c;
-  rig.cameras.push_back({camera, std::nullopt, std::nullopt, std::nullopt});
+  rig.cameras.push_back({camera, std::nullopt, std::nullopt, std::nullopt, std::nullopt});
   return rig.cameras.back();
 }
 
@@ -112,6 +112,16 @@ void RefuseExisting(const fs::path& file, bool force) {
 
 void SetIntrinsics(pipeline::Rig& rig, const std::string& camera, const PinholeCamera& intrinsics) {
   Entry(rig, camera).intrinsics = intrinsics;
+}
+
+nlohmann::json PoseJson(const Rigid3d& T) {
+  const Eigen::Quaterniond& q = T.rotation();
+  return {{"translation_m", {T.translation().x(), T.translation().y(), T.translation().z()}},
+          {"rotation_wxyz", {q.w(), q.x(), q.y(), q.z()}}};
+}
+
+void SetColorDepth(pipeline::Rig& rig, const std::string& camera, const Rigid3d& T_color_depth) {
+  Entry(rig, camera).T_color_depth = T_color_depth;
 }
 
 void SetMount(pipeline::Rig& rig, const std::string& camera, const std::string& body, const Rigid3d& T_body_camera) {

@@ -3,6 +3,7 @@
 // colour frame, and for the mount the tracked camera and board bodies at each frame's time (with the
 // rig's latency), and how it prints the results.
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
@@ -50,6 +51,10 @@ RelativePoseAt BodyPair(const CalibrationInputs& in, const std::string& board_bo
 void RefuseExisting(const std::filesystem::path& file, bool force);
 
 void SetIntrinsics(pipeline::Rig& rig, const std::string& camera, const PinholeCamera& intrinsics);
+/// A pose as the calibrate commands print it: {"translation_m": [x, y, z], "rotation_wxyz": [w, x, y, z]}.
+nlohmann::json PoseJson(const Rigid3d& T);
+
+void SetColorDepth(pipeline::Rig& rig, const std::string& camera, const Rigid3d& T_color_depth);
 void SetMount(pipeline::Rig& rig, const std::string& camera, const std::string& body, const Rigid3d& T_body_camera);
 
 void PrintIntrinsics(const std::string& camera, const IntrinsicsResult& r, const CalibrationViews& views);

@@ -1,4 +1,4 @@
-// mocaplabel calibrate board|intrinsics|camera-mount|latency|pivot|object-mount|check: the calibration procedures of src/calibrate on a
+// mocaplabel calibrate board|intrinsics|camera-mount|latency|depth-to-color|pivot|object-mount|check: the calibration procedures of src/calibrate on a
 // recorded session (docs/calibration.md). The results go into a rig file through the pipeline's strict
 // writer, with where they came from in its comment lines; an existing file is never replaced silently.
 #include <CLI/CLI.hpp>
@@ -11,6 +11,7 @@
 #include "calibrate/latency.h"
 #include "calibrate/intrinsics.h"
 #include "cli/board_yaml.h"
+#include "cli/calibrate_depth.h"
 #include "cli/calibrate_pointer.h"
 #include "cli/calibrate_labels.h"
 #include "cli/calibrate_board_mesh.h"
@@ -45,12 +46,6 @@ void AddCommon(CLI::App& app, Common& c) {
 
 json CameraJson(const PinholeCamera& k) {
   return {{"width", k.width}, {"height", k.height}, {"fx", k.fx}, {"fy", k.fy}, {"cx", k.cx}, {"cy", k.cy}, {"dist", k.dist}};
-}
-
-json PoseJson(const Rigid3d& T) {
-  const Eigen::Quaterniond& q = T.rotation();
-  return {{"translation_m", {T.translation().x(), T.translation().y(), T.translation().z()}},
-          {"rotation_wxyz", {q.w(), q.x(), q.y(), q.z()}}};
 }
 
 json RejectedJson(const std::vector<RejectedView>& rejected, const CalibrationViews& views) {
@@ -144,7 +139,7 @@ void AddLabelInputs(CLI::App& app, LabelsCalibrationArgs& a) {
 }  // namespace
 
 int RunCalibrate(int argc, char** argv) {
-  CLI::App app{"Calibrate the rig from a recorded session: board, intrinsics, camera-mount, latency, pivot, object-mount, check", "mocaplabel calibrate"};
+  CLI::App app{"Calibrate the rig from a recorded session: board, intrinsics, camera-mount, latency, depth-to-color, pivot, object-mount, check", "mocaplabel calibrate"};
   app.require_subcommand(1);
   std::string board_file, board_out;
   int pixels_per_square = 100;
@@ -170,6 +165,11 @@ int RunCalibrate(int argc, char** argv) {
   AddCommon(*mount, mount_args);
   mount->add_option("--board-body", board_body, "tracker body carrying the board")->required();
   mount->add_option("--min-views", mount_options.min_views, "usable views needed")->check(CLI::Range(3, 100000));
+  Common depth_args;
+  DepthToColorOptions depth_options;
+  CLI::App* depth = app.add_subcommand("depth-to-color", "a Kinect v2's depth-to-colour extrinsic from the board's plane in both images");
+  AddCommon(*depth, depth_args);
+  depth->add_option("--min-views", depth_options.min_views, "views with a depth plane needed")->check(CLI::Range(3, 100000));
   Common latency_args;
   std::string latency_board_body;
   LatencyOptions latency_options;
@@ -225,6 +225,10 @@ int RunCalibrate(int argc, char** argv) {
   if (*intrinsics) return Intrinsics(intrinsics_args, intrinsics_options);
   if (*latency) return Latency(latency_args, latency_board_body, latency_options);
   if (*pivot) return CalibratePivotOfSession(pointer_args, pivot_options);
+  if (*depth)
+    return CalibrateDepthToColorOfSession({depth_args.session, depth_args.board, depth_args.camera, depth_args.rig, depth_args.out,
+                                           depth_args.every, depth_args.force, depth_args.json},
+                                          depth_options);
   if (*object && (!pointer_args.pointer.empty() || !pointer_args.landmarks.empty())) {
     if (pointer_args.pointer.empty() || pointer_args.landmarks.empty())
       throw InputError("calibrate object-mount", "--pointer and --landmarks go together");

@@ -16,7 +16,7 @@ const std::vector<Command>& AllCommands() {
       {"devices", "list attached Kinects, serial adapters and network trackers", RunDevices},
       {"export", "export labelled sessions as a dataset: BOP, COCO with poses, segmentation pairs, TUM", RunExport},
       {"validate", "check every label against the measured depth (SegICP): verdicts and a report", RunValidate},
-      {"calibrate", "calibrate the rig from a session: board, intrinsics, camera-mount, latency, pivot, object-mount, check", RunCalibrate},
+      {"calibrate", "calibrate the rig from a session: board, intrinsics, camera-mount, latency, depth-to-color, pivot, object-mount, check", RunCalibrate},
       {"relabel", "label, validate and export again what is stale, on all cores or on a Slurm cluster", RunRelabel},
       {"capture", "capture daemon and its control: daemon, start, stop, status", RunCapture},
   };

@@ -17,6 +17,7 @@ struct LabelRigCamera {
   std::optional<PinholeCamera> color_camera;  ///< intrinsics of the colour stream
   std::optional<std::string> body;            ///< tracker body carrying the camera
   std::optional<Rigid3d> T_body_camera;       ///< camera mount: colour optical frame into the body frame
+  std::optional<Rigid3d> T_color_depth;       ///< depth into colour optical frame (unregistered depth only)
 };
 
 struct LabelRig {

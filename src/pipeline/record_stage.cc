@@ -29,7 +29,7 @@ Rig RigOfCalibration(const sim::RigCalibration& c, const std::string& rig_name, 
   Rig rig;
   rig.name = rig_name;
   rig.tracker_latency_ns = c.tracker_latency_ns;
-  rig.cameras.push_back({camera, c.color_camera, camera_body, c.T_cambody_camera});
+  rig.cameras.push_back({camera, c.color_camera, camera_body, c.T_cambody_camera, std::nullopt});
   return rig;
 }
 

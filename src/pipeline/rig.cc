@@ -12,13 +12,14 @@ namespace {
 namespace fs = std::filesystem;
 
 RigCameraCalibration ParseCamera(const YamlDoc& doc, const YAML::Node& node, size_t index) {
-  const YamlMap map(doc, node, Str("camera ", index + 1), {"name", "body", "T_body_camera", "intrinsics"});
+  const YamlMap map(doc, node, Str("camera ", index + 1), {"name", "body", "T_body_camera", "intrinsics", "T_color_depth"});
   RigCameraCalibration c;
   c.name = map.Get<std::string>("name");
   const std::string what = Str("camera '", c.name, "'");
   if (map.Has("intrinsics")) c.intrinsics = Intrinsics(doc, map["intrinsics"], what + " intrinsics");
   if (map.Has("body")) c.body = map.Get<std::string>("body");
   if (map.Has("T_body_camera")) c.T_body_camera = Pose(doc, map["T_body_camera"], "T_body_camera");
+  if (map.Has("T_color_depth")) c.T_color_depth = Pose(doc, map["T_color_depth"], "T_color_depth");
   return c;
 }
 
@@ -134,7 +135,7 @@ LabelRig LabelRigOf(const Rig& rig) {
   LabelRig out;
   out.name = rig.name;
   out.tracker_latency_ns = rig.tracker_latency_ns;
-  for (const RigCameraCalibration& c : rig.cameras) out.cameras.push_back({c.name, c.intrinsics, c.body, c.T_body_camera});
+  for (const RigCameraCalibration& c : rig.cameras) out.cameras.push_back({c.name, c.intrinsics, c.body, c.T_body_camera, c.T_color_depth});
   return out;
 }
 

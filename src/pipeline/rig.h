@@ -20,6 +20,9 @@ struct RigCameraCalibration {
   std::optional<PinholeCamera> intrinsics;    ///< of the colour stream
   std::optional<std::string> body;            ///< tracker body carrying the camera
   std::optional<Rigid3d> T_body_camera;       ///< colour optical frame into the body frame
+  /// Depth optical frame into the colour optical frame, for a sensor whose depth is not registered to
+  /// its colour (Kinect v2): replaces the device's value the session recorded (calibrate depth-to-color).
+  std::optional<Rigid3d> T_color_depth;
 };
 
 /// The `capture:` section: what the capture daemon connects to and where it writes.

@@ -17,6 +17,10 @@ void EmitCamera(YAML::Emitter& out, const RigCameraCalibration& c) {
     out << YAML::Key << "intrinsics" << YAML::Value;
     EmitIntrinsics(out, *c.intrinsics);
   }
+  if (c.T_color_depth) {
+    out << YAML::Key << "T_color_depth" << YAML::Value;
+    EmitPose(out, *c.T_color_depth);
+  }
   out << YAML::EndMap;
 }
 

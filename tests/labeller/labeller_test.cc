@@ -281,7 +281,7 @@ TEST(Labeller, BadInputGivesClearErrors) {
   }
 
   LabelRig no_body;
-  no_body.cameras.push_back({.camera = "cam", .color_camera = {}, .body = "headbody", .T_body_camera = {}});
+  no_body.cameras.push_back({.camera = "cam", .color_camera = {}, .body = "headbody", .T_body_camera = {}, .T_color_depth = {}});
   EXPECT_THROW(LabelSession(session, {MarkerObject(dir, rig)}, no_body, Options(dir / "L3")), InputError);
 
   LabelObject unknown_body = MarkerObject(dir, rig);

@@ -87,6 +87,17 @@ TEST(Rig, WrittenAndReadBackIsTheSameRig) {
   EXPECT_EQ(again.capture->camera->device.device_index, 1);
 }
 
+TEST(Rig, ADepthToColourExtrinsicReadsWritesAndReachesTheLabellersView) {
+  const std::string text = kRig + "  - name: kinect2\n    T_color_depth: {translation_m: [0.052, 0.001, -0.002], rotation_wxyz: [1, 0, 0, 0]}\n";
+  const pipeline::Rig rig = pipeline::ParseRig(text, "rig.yaml");
+  ASSERT_TRUE(rig.Find("kinect2")->T_color_depth.has_value());
+  EXPECT_FALSE(rig.Find("kinect1")->T_color_depth.has_value());
+  const pipeline::Rig again = pipeline::ParseRig(pipeline::EmitRig(rig), "again.yaml");
+  EXPECT_EQ(again.Find("kinect2")->T_color_depth->translation(), Eigen::Vector3d(0.052, 0.001, -0.002));
+  EXPECT_EQ(pipeline::LabelRigOf(again).Find("kinect2")->T_color_depth->translation().x(), 0.052);
+  EXPECT_NE(RigError(Replace(text, "T_color_depth", "T_colour_depth")).find("unknown key 'T_colour_depth'"), std::string::npos);
+}
+
 TEST(Rig, ViewsCarryTheCalibration) {
   const fs::path dir = fs::temp_directory_path() / ("mocaplabel_rig_" + std::to_string(::getpid()));
   fs::create_directories(dir);

@@ -40,7 +40,7 @@ inline Inputs MakeInputs(const std::string& name, int frames) {
   pipeline::Rig r;
   r.name = "test";
   r.tracker_latency_ns = 3'000'000;
-  r.cameras.push_back({"cam", TestCamera(), "cambody", rig.T_cambody_camera});
+  r.cameras.push_back({"cam", TestCamera(), "cambody", rig.T_cambody_camera, std::nullopt});
   pipeline::WriteRig(r, in.rig);
   return in;
 }
