@@ -74,8 +74,8 @@ int CalibrateDepthToColorOfSession(const DepthToColorArgs& a, const DepthToColor
   }
   if (a.out.empty()) return 0;
   SetColorDepth(in.rig, in.camera_name, r.T_color_depth);
-  pipeline::WriteRig(in.rig, a.out, Str("depth-to-colour extrinsic of ", in.camera_name, " from ", a.session, " (", pairs.size(), " views, plane offsets ",
-                                        r.offset_rms_mm, " mm RMS) by mocaplabel calibrate depth-to-color"));
+  pipeline::WriteRig(in.rig, a.out, Provenance(Str("depth-to-colour extrinsic of ", in.camera_name, " from ", a.session, " (", pairs.size(), " views, plane offsets ",
+                                        r.offset_rms_mm, " mm RMS) by mocaplabel calibrate depth-to-color")));
   std::fprintf(stderr, "wrote %s\n", a.out.c_str());
   return 0;
 }

@@ -67,7 +67,7 @@ std::vector<RecordCheck> ObjectRecords(const LabelsCalibrationArgs& a, const pip
 void WriteLibrary(pipeline::ObjectLibrary library, const std::string& file, const std::string& comment) {
   if (fs::absolute(file).parent_path() != fs::absolute(library.file).parent_path())
     for (pipeline::LibraryObject& o : library.objects) o.mesh = o.mesh_path.string();
-  pipeline::WriteObjectLibrary(library, file, comment);
+  pipeline::WriteObjectLibrary(library, file, Provenance(comment));
   std::fprintf(stderr, "wrote %s\n", file.c_str());
 }
 
@@ -237,7 +237,7 @@ int CheckCalibrationOfLabels(const LabelsCalibrationArgs& a, const CalibrationCh
   }
   const std::string why = Str("corrected by mocaplabel calibrate check of ", a.session, " (", a.validation, ")");
   if (!a.write_rig.empty() && c.changed_rig) {
-    pipeline::WriteRig(c.rig, a.write_rig, why);
+    pipeline::WriteRig(c.rig, a.write_rig, Provenance(why));
     std::fprintf(stderr, "wrote %s\n", a.write_rig.c_str());
   }
   if (!a.write_objects.empty() && c.changed_library) WriteLibrary(c.library, a.write_objects, why);

@@ -60,8 +60,8 @@ int CalibratePivotOfSession(const PointerArgs& a, const PivotOptions& options) {
   }
   if (a.out.empty()) return 0;
   WritePointerFile({a.pointer_body, r.p_pointer_tip}, a.out,
-                   Str("pointer tip by pivot calibration of ", a.session, " (", r.samples_used, " poses, ", r.rms_mm,
-                       " mm RMS) by mocaplabel calibrate pivot"));
+                   Provenance(Str("pointer tip by pivot calibration of ", a.session, " (", r.samples_used, " poses, ", r.rms_mm,
+                       " mm RMS) by mocaplabel calibrate pivot")));
   std::fprintf(stderr, "wrote %s\n", a.out.c_str());
   return 0;
 }
@@ -151,8 +151,8 @@ int CalibrateObjectMountFromPointer(const PointerArgs& a, const TouchOptions& op
     if (o.name == a.object) o.mounts.front().T_body_mesh = r.T_objbody_mesh;
   if (fs::absolute(a.out).parent_path() != fs::absolute(library.file).parent_path())
     for (pipeline::LibraryObject& o : library.objects) o.mesh = o.mesh_path.string();
-  pipeline::WriteObjectLibrary(library, a.out, Str("mount of ", a.object, " on ", mount.body, " from ", touches.size(), " landmarks touched in ",
-                                                   a.session, " (", r.fre_rms_mm, " mm RMS) by mocaplabel calibrate object-mount --pointer"));
+  pipeline::WriteObjectLibrary(library, a.out, Provenance(Str("mount of ", a.object, " on ", mount.body, " from ", touches.size(), " landmarks touched in ",
+                                                   a.session, " (", r.fre_rms_mm, " mm RMS) by mocaplabel calibrate object-mount --pointer")));
   std::fprintf(stderr, "wrote %s\n", a.out.c_str());
   return 0;
 }

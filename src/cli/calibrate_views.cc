@@ -4,6 +4,7 @@
 
 #include "core/check.h"
 #include "core/pose_stream.h"
+#include "core/utc_time.h"
 
 namespace mocap::cli {
 namespace {
@@ -113,6 +114,8 @@ void RefuseExisting(const fs::path& file, bool force) {
 void SetIntrinsics(pipeline::Rig& rig, const std::string& camera, const PinholeCamera& intrinsics) {
   Entry(rig, camera).intrinsics = intrinsics;
 }
+
+std::string Provenance(const std::string& what) { return what + ", " + NowUtcIso8601(); }
 
 nlohmann::json PoseJson(const Rigid3d& T) {
   const Eigen::Quaterniond& q = T.rotation();

@@ -51,6 +51,10 @@ RelativePoseAt BodyPair(const CalibrationInputs& in, const std::string& board_bo
 void RefuseExisting(const std::filesystem::path& file, bool force);
 
 void SetIntrinsics(pipeline::Rig& rig, const std::string& camera, const PinholeCamera& intrinsics);
+/// A calibration file's first comment line: `what` (what was calibrated, from which session, with which
+/// residuals) and when, "... by mocaplabel calibrate X, 2026-12-03T08:56:00Z".
+std::string Provenance(const std::string& what);
+
 /// A pose as the calibrate commands print it: {"translation_m": [x, y, z], "rotation_wxyz": [w, x, y, z]}.
 nlohmann::json PoseJson(const Rigid3d& T);
 

@@ -56,7 +56,7 @@ json RejectedJson(const std::vector<RejectedView>& rejected, const CalibrationVi
 
 void WriteRigOut(const Common& c, const pipeline::Rig& rig, const std::string& what) {
   if (c.out.empty()) return;
-  pipeline::WriteRig(rig, c.out, what);
+  pipeline::WriteRig(rig, c.out, Provenance(what));
   std::fprintf(stderr, "wrote %s\n", c.out.c_str());
 }
 
