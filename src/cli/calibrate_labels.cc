@@ -62,15 +62,6 @@ std::vector<RecordCheck> ObjectRecords(const LabelsCalibrationArgs& a, const pip
   return kept;
 }
 
-/// Writes `library` to `file`; mesh paths become absolute when the file goes to another folder (they are
-/// written relative to the file's folder).
-void WriteLibrary(pipeline::ObjectLibrary library, const std::string& file, const std::string& comment) {
-  if (fs::absolute(file).parent_path() != fs::absolute(library.file).parent_path())
-    for (pipeline::LibraryObject& o : library.objects) o.mesh = o.mesh_path.string();
-  pipeline::WriteObjectLibrary(library, file, Provenance(comment));
-  std::fprintf(stderr, "wrote %s\n", file.c_str());
-}
-
 }  // namespace
 
 int CalibrateObjectMountFromLabels(const LabelsCalibrationArgs& a, const ObjectMountOptions& options) {

@@ -15,7 +15,6 @@
 namespace mocap::cli {
 namespace {
 
-namespace fs = std::filesystem;
 using nlohmann::json;
 
 /// The valid samples of `body`; InputError naming the body when no tracker of the session reports it.
@@ -95,6 +94,64 @@ std::string TouchTimes(const std::vector<Touch>& touches, int64_t start_ns) {
 
 }  // namespace
 
+namespace {
+
+/// The pointer's rests in the session and which of them were the landmarks (InputError saying what to
+/// record when they cannot be matched).
+struct LandmarkTouches {
+  std::vector<Touch> rests, touches;  ///< touches: one rest per landmark, in the landmarks' order
+  TouchMatch match;
+};
+
+LandmarkTouches FindLandmarkTouches(const PointerArgs& a, const SessionReader& session, const PointerTool& pointer,
+                                    const std::string& object_body, const Landmarks& landmarks, const TouchOptions& options) {
+  std::vector<int64_t> stamps_ns;
+  std::vector<Eigen::Vector3d> p_objbody;
+  TipInObjectBody(session, pointer, object_body, stamps_ns, p_objbody);
+  LandmarkTouches t;
+  t.rests = FindTouches(stamps_ns, p_objbody, options);
+  const int64_t start_ns = stamps_ns.empty() ? 0 : stamps_ns.front();
+  try {
+    t.match = MatchTouchesToLandmarks(t.rests, landmarks.p_mesh_m);
+  } catch (const InputError& e) {
+    throw InputError(a.session, Str(e.what(), " (rests at ", TouchTimes(t.rests, start_ns), "; ", a.landmarks, " lists ",
+                                    landmarks.names.size(), "; a touch is the tip held still for ", options.min_still_s, " s)"));
+  }
+  if (t.match.distance_rms_mm > options.max_mismatch_mm)
+    throw InputError(a.session, Str("no choice of the pointer's ", t.rests.size(), " rests (", TouchTimes(t.rests, start_ns),
+                                    ") is as far apart as the landmarks of ", a.landmarks, " (best: ", t.match.distance_rms_mm,
+                                    " mm RMS off): touch them in the file's order, and check the landmarks' unit"));
+  for (int i : t.match.touches) t.touches.push_back(t.rests[static_cast<size_t>(i)]);
+  return t;
+}
+
+void PrintPointerMount(const PointerArgs& a, const std::string& body, const Landmarks& landmarks, const LandmarkTouches& t,
+                       const PairedPointResult& r, const Rigid3d& change) {
+  const double change_mm = 1e3 * change.translation().norm(), change_deg = DegFromRad(change.rvec().norm());
+  if (a.json) {
+    json per = json::array();
+    for (size_t i = 0; i < t.touches.size(); ++i)
+      per.push_back({{"name", landmarks.names[i]}, {"fre_mm", r.fre_mm[i]}, {"rest_spread_mm", t.touches[i].spread_mm},
+                     {"samples", t.touches[i].samples}});
+    std::printf("%s\n", json{{"object", a.object}, {"body", body}, {"T_body_mesh", PoseJson(r.T_objbody_mesh)}, {"fre_rms_mm", r.fre_rms_mm},
+                             {"landmarks", per}, {"rests", t.rests.size()}, {"distance_rms_mm", t.match.distance_rms_mm},
+                             {"change_mm", change_mm}, {"change_deg", change_deg}}
+                            .dump()
+                            .c_str());
+    return;
+  }
+  std::printf("mount of %s on %s from %zu touched landmarks: registration error %.2f mm RMS; changes by %.2f mm, %.3f deg\n",
+              a.object.c_str(), body.c_str(), t.touches.size(), r.fre_rms_mm, change_mm, change_deg);
+  if (t.rests.size() > t.touches.size())
+    std::printf("  %zu other rests of the pointer were not at landmarks (distances off by %.2f mm RMS for the ones used)\n",
+                t.rests.size() - t.touches.size(), t.match.distance_rms_mm);
+  for (size_t i = 0; i < t.touches.size(); ++i)
+    std::printf("  %s: %.2f mm (tip still within %.2f mm over %d samples)\n", landmarks.names[i].c_str(), r.fre_mm[i],
+                t.touches[i].spread_mm, t.touches[i].samples);
+}
+
+}  // namespace
+
 int CalibrateObjectMountFromPointer(const PointerArgs& a, const TouchOptions& options) {
   options.check();
   RefuseExisting(a.out, a.force);
@@ -106,54 +163,16 @@ int CalibrateObjectMountFromPointer(const PointerArgs& a, const TouchOptions& op
   if (found->mounts.size() != 1)
     throw InputError(library.file.string(), Str("object '", a.object, "' is carried by ", found->mounts.size(), " bodies; calibrate one"));
   const BodyMount mount = found->mounts.front();
-  const SessionReader session = SessionReader::Open(a.session);
-  std::vector<int64_t> stamps_ns;
-  std::vector<Eigen::Vector3d> p_objbody;
-  TipInObjectBody(session, pointer, mount.body, stamps_ns, p_objbody);
-  const std::vector<Touch> rests = FindTouches(stamps_ns, p_objbody, options);
-  const int64_t start_ns = stamps_ns.empty() ? 0 : stamps_ns.front();
-  TouchMatch match;
-  try {
-    match = MatchTouchesToLandmarks(rests, landmarks.p_mesh_m);
-  } catch (const InputError& e) {
-    throw InputError(a.session, Str(e.what(), " (rests at ", TouchTimes(rests, start_ns), "; ", a.landmarks, " lists ",
-                                    landmarks.names.size(), "; a touch is the tip held still for ", options.min_still_s, " s)"));
-  }
-  std::vector<Touch> touches;
-  for (int i : match.touches) touches.push_back(rests[static_cast<size_t>(i)]);
-  if (match.distance_rms_mm > options.max_mismatch_mm)
-    throw InputError(a.session, Str("no choice of the pointer's ", rests.size(), " rests (", TouchTimes(rests, start_ns), ") is as far apart as the landmarks of ",
-                                    a.landmarks, " (best: ", match.distance_rms_mm, " mm RMS off): touch them in the file's order, and check the landmarks' unit"));
+  const LandmarkTouches t = FindLandmarkTouches(a, SessionReader::Open(a.session), pointer, mount.body, landmarks, options);
   std::vector<Eigen::Vector3d> touched;
-  for (const Touch& t : touches) touched.push_back(t.p_objbody);
+  for (const Touch& touch : t.touches) touched.push_back(touch.p_objbody);
   const PairedPointResult r = RegisterPairedPoints(touched, landmarks.p_mesh_m);
-  const Rigid3d change = mount.T_body_mesh.inverse() * r.T_objbody_mesh;
-  if (a.json) {
-    json per = json::array();
-    for (size_t i = 0; i < touches.size(); ++i)
-      per.push_back({{"name", landmarks.names[i]}, {"fre_mm", r.fre_mm[i]}, {"rest_spread_mm", touches[i].spread_mm}, {"samples", touches[i].samples}});
-    std::printf("%s\n", json{{"object", a.object}, {"body", mount.body}, {"T_body_mesh", PoseJson(r.T_objbody_mesh)}, {"fre_rms_mm", r.fre_rms_mm}, {"landmarks", per},
-                             {"rests", rests.size()}, {"distance_rms_mm", match.distance_rms_mm}, {"change_mm", 1e3 * change.translation().norm()}, {"change_deg", DegFromRad(change.rvec().norm())}}
-                            .dump().c_str());
-  } else {
-    std::printf("mount of %s on %s from %zu touched landmarks: registration error %.2f mm RMS; changes by %.2f mm, %.3f deg\n",
-                a.object.c_str(), mount.body.c_str(), touches.size(), r.fre_rms_mm, 1e3 * change.translation().norm(),
-                DegFromRad(change.rvec().norm()));
-    if (rests.size() > touches.size())
-      std::printf("  %zu other rests of the pointer were not at landmarks (distances off by %.2f mm RMS for the ones used)\n",
-                  rests.size() - touches.size(), match.distance_rms_mm);
-    for (size_t i = 0; i < touches.size(); ++i)
-      std::printf("  %s: %.2f mm (tip still within %.2f mm over %d samples)\n", landmarks.names[i].c_str(), r.fre_mm[i],
-                  touches[i].spread_mm, touches[i].samples);
-  }
+  PrintPointerMount(a, mount.body, landmarks, t, r, mount.T_body_mesh.inverse() * r.T_objbody_mesh);
   if (a.out.empty()) return 0;
   for (pipeline::LibraryObject& o : library.objects)
     if (o.name == a.object) o.mounts.front().T_body_mesh = r.T_objbody_mesh;
-  if (fs::absolute(a.out).parent_path() != fs::absolute(library.file).parent_path())
-    for (pipeline::LibraryObject& o : library.objects) o.mesh = o.mesh_path.string();
-  pipeline::WriteObjectLibrary(library, a.out, Provenance(Str("mount of ", a.object, " on ", mount.body, " from ", touches.size(), " landmarks touched in ",
-                                                   a.session, " (", r.fre_rms_mm, " mm RMS) by mocaplabel calibrate object-mount --pointer")));
-  std::fprintf(stderr, "wrote %s\n", a.out.c_str());
+  WriteLibrary(library, a.out, Str("mount of ", a.object, " on ", mount.body, " from ", t.touches.size(), " landmarks touched in ", a.session,
+                                   " (", r.fre_rms_mm, " mm RMS) by mocaplabel calibrate object-mount --pointer"));
   return 0;
 }
 

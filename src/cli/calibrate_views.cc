@@ -117,6 +117,13 @@ void SetIntrinsics(pipeline::Rig& rig, const std::string& camera, const PinholeC
 
 std::string Provenance(const std::string& what) { return what + ", " + NowUtcIso8601(); }
 
+void WriteLibrary(pipeline::ObjectLibrary library, const std::string& file, const std::string& what) {
+  if (fs::absolute(file).parent_path() != fs::absolute(library.file).parent_path())
+    for (pipeline::LibraryObject& o : library.objects) o.mesh = o.mesh_path.string();
+  pipeline::WriteObjectLibrary(library, file, Provenance(what));
+  std::fprintf(stderr, "wrote %s\n", file.c_str());
+}
+
 nlohmann::json PoseJson(const Rigid3d& T) {
   const Eigen::Quaterniond& q = T.rotation();
   return {{"translation_m", {T.translation().x(), T.translation().y(), T.translation().z()}},

@@ -11,6 +11,7 @@
 #include "calibrate/camera_mount.h"
 #include "calibrate/intrinsics.h"
 #include "calibrate/latency.h"
+#include "pipeline/object_library.h"
 #include "pipeline/rig.h"
 #include "session/reader.h"
 
@@ -54,6 +55,10 @@ void SetIntrinsics(pipeline::Rig& rig, const std::string& camera, const PinholeC
 /// A calibration file's first comment line: `what` (what was calibrated, from which session, with which
 /// residuals) and when, "... by mocaplabel calibrate X, 2026-12-03T08:56:00Z".
 std::string Provenance(const std::string& what);
+
+/// Writes `library` to `file` with Provenance(`what`) first; mesh paths become absolute when the file goes
+/// to another folder than the library was read from (they are written relative to the file's folder).
+void WriteLibrary(pipeline::ObjectLibrary library, const std::string& file, const std::string& what);
 
 /// A pose as the calibrate commands print it: {"translation_m": [x, y, z], "rotation_wxyz": [w, x, y, z]}.
 nlohmann::json PoseJson(const Rigid3d& T);
