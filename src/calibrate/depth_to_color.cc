@@ -5,6 +5,7 @@
 #include <cmath>
 #include <random>
 
+#include "calibrate/robust_stats.h"
 #include "core/check.h"
 
 namespace mocap {
@@ -35,13 +36,8 @@ double Distance(const Plane& plane, const Eigen::Vector3d& p) { return std::abs(
 
 /// Least-squares plane of `points` (the smallest principal axis through their centroid), facing the origin.
 Plane LeastSquaresPlane(const std::vector<Eigen::Vector3d>& points) {
-  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
-  for (const Eigen::Vector3d& p : points) centroid += p;
-  centroid /= static_cast<double>(points.size());
-  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
-  for (const Eigen::Vector3d& p : points) scatter += (p - centroid) * (p - centroid).transpose();
-  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(scatter, Eigen::ComputeFullU);
-  Plane plane{svd.matrixU().col(2), svd.matrixU().col(2).dot(centroid)};
+  const PrincipalAxes principal = PrincipalAxesOf(points);
+  Plane plane{principal.axes.col(0), principal.axes.col(0).dot(principal.centroid)};
   if (plane.offset_m < 0) plane.normal = -plane.normal, plane.offset_m = -plane.offset_m;
   return plane;
 }

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <random>
 
+#include "calibrate/robust_stats.h"
 #include "core/check.h"
 
 namespace mocap {
@@ -150,8 +151,7 @@ Touch SummariseRest(std::span<const int64_t> stamps_ns, std::span<const Eigen::V
   for (int axis = 0; axis < 3; ++axis) {
     std::vector<double> values;
     for (size_t i : in) values.push_back(p[i](axis));
-    std::nth_element(values.begin(), values.begin() + static_cast<long>(values.size() / 2), values.end());
-    touch.p_objbody(axis) = values[values.size() / 2];
+    touch.p_objbody(axis) = Median(std::move(values));
   }
   double sum = 0;
   for (size_t i : in) sum += (p[i] - touch.p_objbody).squaredNorm();

@@ -2,12 +2,12 @@
 
 #include <opencv2/calib3d.hpp>
 
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <numeric>
 
 #include "calibrate/cv_convert.h"
+#include "calibrate/robust_stats.h"
 #include "core/check.h"
 
 namespace mocap {
@@ -20,14 +20,8 @@ struct Plane {
 };
 
 Plane FitPlane(const std::vector<Eigen::Vector3d>& points) {
-  Plane plane{Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ(), Eigen::Vector3d::UnitX()};
-  for (const auto& p : points) plane.centroid += p / static_cast<double>(points.size());
-  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
-  for (const auto& p : points) scatter += (p - plane.centroid) * (p - plane.centroid).transpose();
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(scatter);  // ascending eigenvalues
-  plane.normal = eigen.eigenvectors().col(0);
-  plane.axis = eigen.eigenvectors().col(2);
-  return plane;
+  const PrincipalAxes principal = PrincipalAxesOf(points);
+  return {principal.centroid, principal.axes.col(0), principal.axes.col(2)};
 }
 
 std::optional<MarkedTag> TagAround(const std::vector<Eigen::Vector3d>& m, size_t i, const Plane& plane, double tol) {

@@ -20,22 +20,18 @@ std::vector<Eigen::Vector3d> BoardPointsInDepth(const DepthImage& depth_m, const
   const Rigid3d T_board_depth = T_color_board.inverse() * T_color_depth;
   const double margin = 0.5 * spec.square_m, width = spec.squares_x * spec.square_m, height = spec.squares_y * spec.square_m;
   std::vector<Eigen::Vector3d> points;
-  for (int v = 0; v < depth_m.height; ++v)
-    for (int u = 0; u < depth_m.width; ++u) {
-      const float z = depth_m.data[static_cast<size_t>(v) * static_cast<size_t>(depth_m.width) + static_cast<size_t>(u)];
-      if (!(z > 0)) continue;
-      const Eigen::Vector3d p_depth = depth_camera.Unproject(Eigen::Vector2d(u, v), z);
-      const Eigen::Vector3d p_board = T_board_depth * p_depth;
-      if (p_board.x() > margin && p_board.x() < width - margin && p_board.y() > margin && p_board.y() < height - margin &&
-          std::abs(p_board.z()) < 0.03)
-        points.push_back(p_depth);
-    }
+  for (const Eigen::Vector3d& p_depth : DepthToPoints(depth_m, depth_camera)) {
+    const Eigen::Vector3d p_board = T_board_depth * p_depth;
+    if (p_board.x() > margin && p_board.x() < width - margin && p_board.y() > margin && p_board.y() < height - margin &&
+        std::abs(p_board.z()) < 0.03)
+      points.push_back(p_depth);
+  }
   return points;
 }
 
 }  // namespace
 
-int CalibrateDepthToColorOfSession(const DepthToColorArgs& a, const DepthToColorOptions& options) {
+int CalibrateDepthToColorOfSession(const BoardSessionArgs& a, const DepthToColorOptions& options) {
   options.check();
   RefuseExisting(a.out, a.force);
   const BoardSpec spec = ReadBoardFile(a.board);
@@ -53,6 +49,10 @@ int CalibrateDepthToColorOfSession(const DepthToColorArgs& a, const DepthToColor
     const std::optional<BoardPose> pose = EstimateBoardPose(views.detections[i], spec, in.intrinsics);
     if (!pose) continue;
     const DepthImage depth_m = in.session.LoadDepth(in.camera_name, views.frame_index[i]);
+    if (depth_m.width != info.depth_camera.width || depth_m.height != info.depth_camera.height)
+      throw InputError(Str(a.session, " ", in.camera_name, " frame ", views.frame_index[i]),
+                       Str("depth image is ", depth_m.width, "x", depth_m.height, ", the depth camera ", info.depth_camera.width, "x",
+                           info.depth_camera.height));
     const std::optional<PlaneFit> fit = FitPlane(BoardPointsInDepth(depth_m, info.depth_camera, T_color_depth_before, pose->T_camera_board, spec));
     if (fit) pairs.push_back({fit->plane, BoardPlane(pose->T_camera_board)});
     else ++no_plane;

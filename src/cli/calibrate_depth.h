@@ -3,18 +3,11 @@
 // session of the board (calibrate/depth_to_color.h): per frame the board's pose from the colour image
 // and its plane fitted to the depth pixels that fall on it (found with the device's extrinsic, which is
 // close enough to select them); the result goes into the rig's `T_color_depth`.
-#include <string>
-
 #include "calibrate/depth_to_color.h"
+#include "cli/calibrate_views.h"
 
 namespace mocap::cli {
 
-struct DepthToColorArgs {
-  std::string session, board, camera, rig, out;
-  int every = 1;
-  bool force = false, json = false;
-};
-
-int CalibrateDepthToColorOfSession(const DepthToColorArgs& args, const DepthToColorOptions& options);
+int CalibrateDepthToColorOfSession(const BoardSessionArgs& args, const DepthToColorOptions& options);
 
 }  // namespace mocap::cli

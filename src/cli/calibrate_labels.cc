@@ -68,14 +68,10 @@ int CalibrateObjectMountFromLabels(const LabelsCalibrationArgs& a, const ObjectM
   options.check();
   RefuseExisting(a.out, a.force);
   pipeline::ObjectLibrary library = Library(a);
-  const pipeline::LibraryObject* found = library.Find(a.object);
-  if (!found) throw InputError(library.file.string(), "no object '" + a.object + "'");
-  if (found->mounts.size() != 1)
-    throw InputError(library.file.string(), Str("object '", a.object, "' is carried by ", found->mounts.size(),
-                                                " bodies; object-mount calibrates an object on one body"));
-  const BodyMount mount = found->mounts.front();
+  const pipeline::LibraryObject& object = ObjectOnOneBody(library, a.object);
+  const BodyMount mount = object.mounts.front();
   std::vector<LabelEstimatePair> pairs;
-  for (const RecordCheck& r : ObjectRecords(a, library, found->id)) pairs.push_back({r.T_camera_object_label, r.check.T_camera_object_segicp});
+  for (const RecordCheck& r : ObjectRecords(a, library, object.id)) pairs.push_back({r.T_camera_object_label, r.check.T_camera_object_segicp});
   const ObjectMountResult r = EstimateObjectMount(pairs, mount.T_body_mesh, options);
   const Eigen::Vector3d dt_mm = 1e3 * r.correction.translation();
   if (a.json) {

@@ -158,11 +158,7 @@ int CalibrateObjectMountFromPointer(const PointerArgs& a, const TouchOptions& op
   const PointerTool pointer = ReadPointerFile(a.pointer);
   const Landmarks landmarks = ReadLandmarksFile(a.landmarks);
   pipeline::ObjectLibrary library = pipeline::ReadObjectLibrary(pipeline::FindObjectsFile(a.session, a.objects));
-  const pipeline::LibraryObject* found = library.Find(a.object);
-  if (!found) throw InputError(library.file.string(), "no object '" + a.object + "'");
-  if (found->mounts.size() != 1)
-    throw InputError(library.file.string(), Str("object '", a.object, "' is carried by ", found->mounts.size(), " bodies; calibrate one"));
-  const BodyMount mount = found->mounts.front();
+  const BodyMount mount = ObjectOnOneBody(library, a.object).mounts.front();
   const LandmarkTouches t = FindLandmarkTouches(a, SessionReader::Open(a.session), pointer, mount.body, landmarks, options);
   std::vector<Eigen::Vector3d> touched;
   for (const Touch& touch : t.touches) touched.push_back(touch.p_objbody);

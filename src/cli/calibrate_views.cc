@@ -117,6 +117,15 @@ void SetIntrinsics(pipeline::Rig& rig, const std::string& camera, const PinholeC
 
 std::string Provenance(const std::string& what) { return what + ", " + NowUtcIso8601(); }
 
+const pipeline::LibraryObject& ObjectOnOneBody(const pipeline::ObjectLibrary& library, const std::string& name) {
+  const pipeline::LibraryObject* found = library.Find(name);
+  if (!found) throw InputError(library.file.string(), "no object '" + name + "'");
+  if (found->mounts.size() != 1)
+    throw InputError(library.file.string(), Str("object '", name, "' is carried by ", found->mounts.size(),
+                                                " bodies; object-mount calibrates an object on one body"));
+  return *found;
+}
+
 void WriteLibrary(pipeline::ObjectLibrary library, const std::string& file, const std::string& what) {
   if (fs::absolute(file).parent_path() != fs::absolute(library.file).parent_path())
     for (pipeline::LibraryObject& o : library.objects) o.mesh = o.mesh_path.string();

@@ -17,6 +17,13 @@
 
 namespace mocap::cli {
 
+/// What the board procedures (intrinsics, camera-mount, latency, depth-to-color) are given.
+struct BoardSessionArgs {
+  std::string session, board, camera, rig, out;
+  int every = 1;
+  bool force = false, json = false;
+};
+
 struct CalibrationInputs {
   SessionReader session;
   pipeline::Rig rig;  ///< --rig, or one made from the calibration recorded in the session
@@ -55,6 +62,10 @@ void SetIntrinsics(pipeline::Rig& rig, const std::string& camera, const PinholeC
 /// A calibration file's first comment line: `what` (what was calibrated, from which session, with which
 /// residuals) and when, "... by mocaplabel calibrate X, 2026-12-03T08:56:00Z".
 std::string Provenance(const std::string& what);
+
+/// The object `name` of `library`; InputError naming the library when it has no such object or the
+/// object is carried by several bodies (object-mount calibrates an object on one body).
+const pipeline::LibraryObject& ObjectOnOneBody(const pipeline::ObjectLibrary& library, const std::string& name);
 
 /// Writes `library` to `file` with Provenance(`what`) first; mesh paths become absolute when the file goes
 /// to another folder than the library was read from (they are written relative to the file's folder).

@@ -27,11 +27,7 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-struct Common {
-  std::string session, board, camera, rig, out;
-  int every = 1;
-  bool force = false, json = false;
-};
+using Common = BoardSessionArgs;
 
 void AddCommon(CLI::App& app, Common& c) {
   app.add_option("session", c.session, "session folder")->required();
@@ -226,9 +222,7 @@ int RunCalibrate(int argc, char** argv) {
   if (*latency) return Latency(latency_args, latency_board_body, latency_options);
   if (*pivot) return CalibratePivotOfSession(pointer_args, pivot_options);
   if (*depth)
-    return CalibrateDepthToColorOfSession({depth_args.session, depth_args.board, depth_args.camera, depth_args.rig, depth_args.out,
-                                           depth_args.every, depth_args.force, depth_args.json},
-                                          depth_options);
+    return CalibrateDepthToColorOfSession(depth_args, depth_options);
   if (*object && (!pointer_args.pointer.empty() || !pointer_args.landmarks.empty())) {
     if (pointer_args.pointer.empty() || pointer_args.landmarks.empty())
       throw InputError("calibrate object-mount", "--pointer and --landmarks go together");
