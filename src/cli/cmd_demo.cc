@@ -87,12 +87,10 @@ int RunDemo(int argc, char** argv) {
   options.context.platform = EglPlatformFromString(platform);
   const sim::Scenario scenario =
       pipeline::DemoScenario(scenario_path.empty() ? sim::DefaultScenario() : LoadScenarioYaml(scenario_path), options);
-  // A table top is a plane: the measured depth does not constrain its in-plane position, so SegICP
-  // slides along it and cannot verify the label, and its large mesh makes it the slowest check.
   const std::vector<pipeline::Stage> stages = {pipeline::MakeRecordStage(scenario),
                                                pipeline::MakeCaptureStage(),
                                                pipeline::MakeDemoLabelStage(),
-                                               pipeline::MakeValidateStage(options.validate_frame_stride, {"table"}),
+                                               pipeline::MakeValidateStage(options.validate_frame_stride, {}),
                                                pipeline::MakeScoreStage(),
                                                pipeline::MakeContactSheetStage(),
                                                exporters::MakeExportStage(DemoExportOptions())};

@@ -59,7 +59,10 @@ int RunValidate(int argc, char** argv) {
       ->check(CLI::IsMember({"surface", "renderer"}));
   app.add_option("--seed", seed, "acquisition seed: label (hypotheses about the label) or view-sphere (the paper)")
       ->check(CLI::IsMember({"label", "view-sphere"}));
-  app.add_flag("--track", options.track, "sequence mode: a Kalman tracker per object instance over its frames");
+  bool per_frame = false;
+  CLI::Option* track = app.add_flag("--track", options.track,
+                                    "sequence mode (the default): a Kalman tracker per object instance over its frames");
+  app.add_flag("--per-frame", per_frame, "check every record on its own (an acquisition per record; slower)")->excludes(track);
   app.add_option("--threads", options.threads, "worker threads (0: one per core)")->check(CLI::Range(0, 256));
   app.add_option("--platform", platform, "EGL platform for --crops renderer: auto, surfaceless or device");
   CLI::Option* skip = app.add_option("--skip-objects", request.skip_object_names, "leave out these objects (names, comma-separated)")
@@ -80,6 +83,7 @@ int RunValidate(int argc, char** argv) {
   request.objects_file = objects_file;
   request.command = CommandLine(argc, argv);
   options.masks_dir = masks_dir;
+  options.track = !per_frame;
   options.mask_values = mask_values == "object" ? MaskValues::kObjectId : MaskValues::kInstanceId;
   options.crops = crops == "renderer" ? CropBackend::kRenderer : CropBackend::kSurface;
   options.validate.check_seed = seed == "label" ? AcquisitionSeed::kLabel : AcquisitionSeed::kViewSphere;

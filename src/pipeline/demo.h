@@ -28,7 +28,7 @@ struct DemoOptions {
   int threads = 0;                ///< 0: one per core
   /// The validate stage checks the frames whose index is a multiple of this (1: every frame). The
   /// default keeps the default demo within its time budget on 2 cores (docs/demo.md).
-  int validate_frame_stride = 15;
+  int validate_frame_stride = 1;
   RenderContextOptions context;
   ProgressSink* progress = nullptr;  ///< each stage's progress; not owned, may be null
   void check() const;  ///< throws InputError

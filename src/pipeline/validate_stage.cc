@@ -92,7 +92,7 @@ Stage MakeValidateStage(int frame_stride, std::vector<std::string> skip_objects)
     c.outputs["validation"] = request.out_dir.string();
     std::string skipped;
     for (const std::string& name : skip_objects) skipped += (skipped.empty() ? "" : ", ") + name;
-    if (!skipped.empty()) c.notes.push_back("validation leaves out " + skipped + " (a plane: not verifiable by ICP)");
+    if (!skipped.empty()) c.notes.push_back("validation leaves out " + skipped);
     if (frame_stride > 1)
       c.notes.push_back(Str("validation checked one frame in ", frame_stride, " (", frames.size(),
                             " frames) to keep the demo short; `mocaplabel validate` checks every frame"));

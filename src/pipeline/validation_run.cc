@@ -58,6 +58,16 @@ nlohmann::json ToJson(const RecordCheck& r) {
     j["success"] = c.success;
     j["icp_iterations"] = c.icp.iterations;
     j["icp_inlier_rmse_m"] = c.icp.inlier_rmse_m;
+    if (c.observability.analysed) {
+      j["observable_directions"] = c.observability.observable;
+      const auto& info = c.observability.information;
+      j["direction_information"] = std::vector<double>(info.data(), info.data() + info.size());
+      j["direction_probe_loss"] = c.observability.probe_loss;
+      j["unobservable"] = c.observability.unobservable;
+      j["observed_position_error_mm"] = c.observed.position_mm;
+      j["observed_rotation_error_deg"] = c.observed.rotation_deg;
+      j["judged_where_observable"] = c.judged_where_observable;
+    }
   }
   j["label_score"] = c.label_score;
   if (r.segmentation)
@@ -86,6 +96,13 @@ RecordCheck RecordCheckFromJson(const nlohmann::json& j, const std::string& wher
     c.success = f.Bool("success");
     c.icp.iterations = static_cast<int>(f.Integer("icp_iterations"));
     c.icp.inlier_rmse_m = f.Number("icp_inlier_rmse_m");
+    if (f.Has("observable_directions")) {
+      c.observability.analysed = true;
+      c.observability.observable = static_cast<int>(f.Integer("observable_directions"));
+      c.observability.unobservable = f.Strings("unobservable");
+      c.observed = {f.Number("observed_position_error_mm"), f.Number("observed_rotation_error_deg")};
+      c.judged_where_observable = f.Bool("judged_where_observable");
+    }
   }
   c.label_score = f.Number("label_score");
   if (f.Has("segmentation")) {

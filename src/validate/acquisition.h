@@ -94,9 +94,9 @@ AcquisitionResult Acquire(const PointCloud& scene, const PointGrid& scene_grid, 
                           const std::vector<ModelCrop>& crops, const AcquisitionOptions& options,
                           const AlignmentOptions& alignment);
 
-/// Acquisition with an orientation prior (a label, a filter prediction): num_crops hypotheses, the
-/// prior's rotation and rotations up to prior_spread_deg about it, each with the crop visible from
-/// the camera at that pose, placed at the scene median as above.
+/// Acquisition with a prior pose (a label, a filter prediction): num_crops hypotheses, the prior's
+/// rotation and rotations up to prior_spread_deg about it, each with the crop visible from the camera
+/// at that pose, placed at the scene median as above; and one more, the prior itself where it is.
 AcquisitionResult AcquireAround(const PointCloud& scene, const PointGrid& scene_grid, const CropSource& model,
                                 const Rigid3d& T_camera_model_prior, const AcquisitionOptions& options,
                                 const AlignmentOptions& alignment);

@@ -16,9 +16,11 @@ VisibleInFrameCropSource::VisibleInFrameCropSource(const CropSource& base, const
 
 ModelCrop VisibleInFrameCropSource::Crop(const Rigid3d& T_camera_model) const {
   ModelCrop crop = base_.Crop(T_camera_model);
-  PointCloud visible;
+  PointCloud visible, normals;
   visible.reserve(crop.points_model.size());
-  for (const Eigen::Vector3d& p_model : crop.points_model) {
+  const bool has_normals = crop.normals_model.size() == crop.points_model.size();
+  for (size_t i = 0; i < crop.points_model.size(); ++i) {
+    const Eigen::Vector3d& p_model = crop.points_model[i];
     const Eigen::Vector3d p_camera = T_camera_model * p_model;
     const auto pixel = camera_.Project(p_camera);
     if (!pixel) continue;
@@ -28,8 +30,10 @@ ModelCrop VisibleInFrameCropSource::Crop(const Rigid3d& T_camera_model) const {
     const bool hidden = mask_.at(u, v) != label_id_ && measured_m > 0 && measured_m < p_camera.z() - margin_m_;
     if (hidden) continue;  // something else in front
     visible.push_back(p_model);
+    if (has_normals) normals.push_back(crop.normals_model[i]);
   }
   crop.points_model = std::move(visible);
+  crop.normals_model = std::move(normals);
   return crop;
 }
 

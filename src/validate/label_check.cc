@@ -22,13 +22,26 @@ void ScoreEstimate(const Rigid3d& label, const ValidateOptions& options, LabelCh
                    check->errors.rotation_axis_deg < options.verdict.success_rotation_deg &&
                    check->errors.rotation_angle_deg < options.verdict.success_rotation_deg;
   check->segicp_reliable = check->segicp_score >= options.acquisition.epsilon;
+  check->observed = ObservedPart(check->observability, check->T_camera_object_segicp, label);
+  check->judged_where_observable = check->observability.analysed && check->observability.observable < 6;
 }
+
 
 /// Label score, errors, success and verdict once an estimate (or none) is known.
 void Finish(const PointGrid& grid, const Rigid3d& label, const CropSource& model, const ValidateOptions& options,
             LabelCheck* check) {
   check->label_score = ScoreAlignment(model.Crop(label).points_model, label, grid, options.alignment).score;
-  if (check->estimated) ScoreEstimate(label, options, check);
+  if (check->estimated) {
+    // The point-to-plane polish moves the estimate only where the depth constrains it, and says where.
+    const ModelCrop crop = model.Crop(check->T_camera_object_segicp);
+    const PlaneRefinement refined = RefinePointToPlane(crop, check->T_camera_object_segicp, grid, options.observability);
+    if (refined.iterations > 0) {
+      check->T_camera_object_segicp = refined.T_camera_object;
+      check->segicp_score = ScoreAlignment(crop.points_model, refined.T_camera_object, grid, options.alignment).score;
+    }
+    check->observability = AnalyseObservability(model, check->T_camera_object_segicp, grid, options.observability);
+    ScoreEstimate(label, options, check);
+  }
   DecideVerdict(options.verdict, check);
 }
 
@@ -55,6 +68,7 @@ std::string_view ToString(Verdict verdict) {
 std::string_view ToString(VerdictReason reason) {
   switch (reason) {
     case VerdictReason::kAgrees: return "agrees";
+    case VerdictReason::kAgreesWhereObservable: return "agrees_where_observable";
     case VerdictReason::kDiffers: return "differs";
     case VerdictReason::kDisagrees: return "disagrees";
     case VerdictReason::kNoReliableEstimate: return "no_reliable_estimate";
@@ -94,12 +108,21 @@ void DecideVerdict(const VerdictOptions& o, LabelCheck* c) {
                     Fixed(c->segicp_score, 2), ", ", label_score, ")");
     return;
   }
-  const double position_m = c->errors.position_mm * 1e-3, angle = c->errors.rotation_angle_deg;
-  const std::string differs = Str("SegICP differs by ", Fixed(c->errors.position_mm, 1), " mm, ",
-                                  Fixed(angle, 1), " deg (score ", Fixed(c->segicp_score, 2), ", ", label_score, ")");
+  // With unobservable directions only the observable part of the difference is evidence.
+  const bool partly = c->judged_where_observable;
+  const double position_mm = partly ? c->observed.position_mm : c->errors.position_mm;
+  const double position_m = position_mm * 1e-3, angle = partly ? c->observed.rotation_deg : c->errors.rotation_angle_deg;
+  std::string differs = Str("SegICP differs by ", Fixed(position_mm, 1), " mm, ", Fixed(angle, 1), " deg",
+                            partly ? Str(" in the ", c->observability.observable, " observable directions") : "",
+                            " (score ", Fixed(c->segicp_score, 2), ", ", label_score, ")");
+  if (partly) {
+    differs += "; unobservable:";
+    for (const std::string& u : c->observability.unobservable) differs += " " + u + ";";
+    differs.pop_back();
+  }
   if (position_m <= o.accept_position_m && angle <= o.accept_rotation_deg) {
     c->verdict = Verdict::kAccept;
-    c->reason_code = VerdictReason::kAgrees;
+    c->reason_code = partly ? VerdictReason::kAgreesWhereObservable : VerdictReason::kAgrees;
   } else if (position_m > o.reject_position_m || angle > o.reject_rotation_deg) {
     c->verdict = Verdict::kReject;
     c->reason_code = VerdictReason::kDisagrees;
@@ -143,7 +166,17 @@ Rigid3d NearestSymmetricPose(const Rigid3d& T_camera_object, const Rigid3d& T_ca
 void ApplySymmetry(const Rigid3d& T_camera_object_label, const SymmetryAxis& symmetry, const ValidateOptions& options,
                    LabelCheck* check) {
   if (!check->estimated) return;
-  check->T_camera_object_segicp = NearestSymmetricPose(check->T_camera_object_segicp, T_camera_object_label, symmetry);
+  const Rigid3d before = check->T_camera_object_segicp;
+  check->T_camera_object_segicp = NearestSymmetricPose(before, T_camera_object_label, symmetry);
+  // The same physical analysis in the turned object frame: coordinates change by S^-1.
+  const Rigid3d S_inv = check->T_camera_object_segicp.inverse() * before;
+  Observability& ob = check->observability;
+  ob.center_object = S_inv * ob.center_object;
+  const Eigen::Matrix3d R = S_inv.rotation_matrix();
+  for (int k = 0; k < 6; ++k) {
+    ob.directions.col(k).head<3>() = R * ob.directions.col(k).head<3>().eval();
+    ob.directions.col(k).tail<3>() = R * ob.directions.col(k).tail<3>().eval();
+  }
   ScoreEstimate(T_camera_object_label, options, check);
   DecideVerdict(options.verdict, check);
 }

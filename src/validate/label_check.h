@@ -10,6 +10,7 @@
 #include "core/camera.h"
 #include "core/image.h"
 #include "validate/acquisition.h"
+#include "validate/observability.h"
 #include "validate/tracker.h"
 #include "validate/validate_options.h"
 
@@ -20,6 +21,7 @@ std::string_view ToString(Verdict verdict);
 
 enum class VerdictReason {
   kAgrees,               ///< estimate reliable and within the accept thresholds of the label
+  kAgreesWhereObservable,  ///< as kAgrees in the directions the depth constrains; others unobservable
   kDiffers,              ///< estimate reliable, between the accept and reject thresholds
   kDisagrees,            ///< estimate reliable, beyond the reject thresholds
   kNoReliableEstimate,   ///< no hypothesis reached epsilon; the label's own score is not low
@@ -55,6 +57,12 @@ struct LabelCheck {
   bool success = false;              ///< the paper's criterion: < 5 cm and < 15 deg (options)
   double label_score = 0.0;          ///< a(M, S) of the crop visible at the label pose
   IcpResult icp;                     ///< the registration that produced the estimate
+  /// Which directions the depth constrains at the estimate (validate/observability.h), and the label's
+  /// difference from the estimate in those directions; the verdict judges that difference when some
+  /// direction is unobservable.
+  Observability observability;
+  ObservedDifference observed;
+  bool judged_where_observable = false;  ///< the verdict judged `observed` (some direction unobservable)
 };
 
 /// Checks one label against the object's scene cloud (camera frame, from the mask). Runs the acquisition

@@ -1,14 +1,27 @@
 #include "validate/model_crop.h"
 
+#include <array>
 #include <climits>
 #include <cmath>
 #include <cstdint>
 #include <numbers>
 #include <unordered_map>
+#include <unordered_set>
 
 #include "core/check.h"
 
 namespace mocap {
+namespace {
+
+struct CellHash {
+  size_t operator()(const std::array<int64_t, 3>& k) const {
+    uint64_t h = 0;
+    for (const int64_t x : k) h = (h ^ static_cast<uint64_t>(x)) * 0x9E3779B97F4A7C15ull;  // Fibonacci hashing
+    return static_cast<size_t>(h ^ (h >> 29));
+  }
+};
+
+}  // namespace
 
 void TriangleMesh::check() const {
   if (vertices.empty() || triangles.empty()) throw InputError("TriangleMesh", "mesh has no vertices or triangles");
@@ -22,17 +35,35 @@ PointCloud SampleSurface(const TriangleMesh& mesh, double spacing_m) {
   mesh.check();
   MOCAP_CHECK(spacing_m > 0, "spacing must be positive");
   PointCloud points;
+  // Triangles share vertices and edges: a vertex of six triangles would be sampled six times. Samples
+  // within 10 um of an earlier one are the same surface point and are kept once; the z-buffer's work
+  // is per sample.
+  std::unordered_set<std::array<int64_t, 3>, CellHash> seen;
+  const auto add = [&](const Eigen::Vector3d& p) {
+    if (seen.insert({std::llround(p.x() * 1e5), std::llround(p.y() * 1e5), std::llround(p.z() * 1e5)}).second)
+      points.push_back(p);
+  };
+  const auto steps = [spacing_m](const Eigen::Vector3d& edge) {
+    return std::max(1, static_cast<int>(std::ceil(edge.norm() / spacing_m)));
+  };
   for (const auto& tri : mesh.triangles) {
-    const Eigen::Vector3d& a = mesh.vertices[tri[0]];
-    const Eigen::Vector3d& b = mesh.vertices[tri[1]];
-    const Eigen::Vector3d& c = mesh.vertices[tri[2]];
-    const double longest = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
-    const int n = std::max(1, static_cast<int>(std::ceil(longest / spacing_m)));
-    for (int i = 0; i <= n; ++i)
-      for (int j = 0; i + j <= n; ++j) {
-        const double u = static_cast<double>(i) / n, v = static_cast<double>(j) / n;
-        points.push_back(a + u * (b - a) + v * (c - a));
-      }
+    // The grid runs along the two edges at the vertex opposite the longest edge, each at its own step
+    // count, so a long thin triangle gets samples in proportion to its area (one count from the longest
+    // edge for both directions put millions of samples on the slivers of a cylinder's side).
+    int k = 0;
+    double longest = -1.0;
+    for (int e = 0; e < 3; ++e) {
+      const double length = (mesh.vertices[tri[(e + 1) % 3]] - mesh.vertices[tri[(e + 2) % 3]]).norm();
+      if (length > longest) longest = length, k = e;
+    }
+    const Eigen::Vector3d& a = mesh.vertices[tri[k]];
+    const Eigen::Vector3d& b = mesh.vertices[tri[(k + 1) % 3]];
+    const Eigen::Vector3d& c = mesh.vertices[tri[(k + 2) % 3]];
+    const int n1 = steps(b - a), n2 = steps(c - a), n3 = steps(c - b);
+    for (int i = 0; i <= n1; ++i)
+      for (int j = 0; i * n2 + j * n1 <= n1 * n2; ++j)
+        add(a + (static_cast<double>(i) / n1) * (b - a) + (static_cast<double>(j) / n2) * (c - a));
+    for (int i = 0; i <= n3; ++i) add(b + (static_cast<double>(i) / n3) * (c - b));  // the long edge itself
   }
   return points;
 }

@@ -18,6 +18,9 @@ namespace mocap {
 /// A crop: visible model points, in the model frame, and where it was seen from.
 struct ModelCrop {
   PointCloud points_model;
+  /// Unit surface normals of points_model (same order), model frame; empty when the source computes
+  /// none (CachedCropSource adds them; the observability analysis estimates them otherwise).
+  PointCloud normals_model;
   /// The camera pose the crop was computed for (model into camera).
   Rigid3d T_camera_model;
   /// Unit vector from the model origin towards the camera, model frame.
@@ -42,8 +45,9 @@ struct TriangleMesh {
   void check() const;
 };
 
-/// Points on every triangle, on a barycentric grid with edge spacing at most `spacing_m` (vertices
-/// included). Deterministic.
+/// Points on every triangle, on a grid along two of its edges with steps of at most `spacing_m` (vertices
+/// and edges included), each surface point once (the samples triangles share at their vertices and edges are not
+/// repeated). Deterministic.
 PointCloud SampleSurface(const TriangleMesh& mesh, double spacing_m);
 
 struct CropOptions {

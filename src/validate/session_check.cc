@@ -12,6 +12,7 @@
 #include "core/check.h"
 #include "render/mesh.h"
 #include "session/records.h"
+#include "validate/frame_visibility.h"
 #include "validate/rendered_crop.h"
 
 namespace mocap {
@@ -120,7 +121,8 @@ std::optional<LabelCheck> InputProblem(const FrameInputs& in, const RecordMask& 
 }
 
 struct ObjectModel {
-  std::unique_ptr<CropSource> crops;
+  std::unique_ptr<CropSource> source;  ///< computes crops (z-buffer or renderer)
+  std::unique_ptr<CachedCropSource> crops;  ///< each view's crop once, from `source`
   std::vector<ModelCrop> view_crops;  ///< for the view-sphere seed
 };
 
@@ -135,9 +137,10 @@ std::map<int, ObjectModel> LoadModels(const std::vector<ValidationObject>& objec
     const Mesh mesh = LoadMesh(it->mesh_path.string(), it->unit_scale_to_m);
     ObjectModel model;
     if (options.crops == CropBackend::kRenderer)
-      model.crops = std::make_unique<RenderedCropSource>(mesh, options.validate.crop, options.context);
+      model.source = std::make_unique<RenderedCropSource>(mesh, options.validate.crop, options.context);
     else
-      model.crops = std::make_unique<SurfaceCropSource>(SurfaceCropSource::FromMesh(ToTriangleMesh(mesh), options.validate.crop));
+      model.source = std::make_unique<SurfaceCropSource>(SurfaceCropSource::FromMesh(ToTriangleMesh(mesh), options.validate.crop));
+    model.crops = std::make_unique<CachedCropSource>(*model.source, options.validate.crop_cache);
     if (options.validate.check_seed == AcquisitionSeed::kViewSphere && !options.track)
       model.view_crops = MakeViewSphereCrops(*model.crops, options.validate.acquisition);
     models.emplace(r.object, std::move(model));
@@ -205,6 +208,9 @@ void CheckTrack(const SessionReader& session, const LabelRunView& labels, const 
   std::sort(group.begin(), group.end(), [&](size_t a, size_t b) { return records[a].index < records[b].index; });
   const ObjectModel& model = models.at(records[group.front()].object);
   ObjectTracker tracker(*model.crops, options.validate);
+  const bool seed_from_label = options.validate.check_seed == AcquisitionSeed::kLabel;
+  // Cross-checks at fixed frame indices: a shard starting at such a frame checks as the whole run does.
+  const int every = options.validate.tracking.reacquire_every;
   int64_t last_stamp_ns = 0;
   for (size_t i : group) {
     RecordCheck& r = records[i];
@@ -220,8 +226,16 @@ void CheckTrack(const SessionReader& session, const LabelRunView& labels, const 
       const InterpolatedPose camera_pose = session.CameraPoseAtFrame(r.camera, r.index);
       const int64_t stamp_ns = std::max(r.stamp_ns, last_stamp_ns + 1);
       last_stamp_ns = stamp_ns;
-      const TrackStep step = tracker.Step(scene, camera_pose.ok() ? *camera_pose.pose : Rigid3d(), stamp_ns);
-      r.check = CheckLabelWithTrack(scene, r.T_camera_object_label, *model.crops, step, options.validate);
+      // Crops as this frame sees them; the label seeds the acquisitions (the first frame, after a loss,
+      // the periodic cross-check), as in the per-frame mode.
+      const VisibleInFrameCropSource visible(*model.crops, camera, in.depth_m, *mask.mask, mask.value,
+                                             options.validate.occluder_margin_m);
+      const CropSource& frame_model = options.validate.occluder_margin_m > 0 ? static_cast<const CropSource&>(visible)
+                                                                               : *model.crops;
+      const TrackStep step = tracker.Step(scene, camera_pose.ok() ? *camera_pose.pose : Rigid3d(), stamp_ns,
+                                          seed_from_label ? &r.T_camera_object_label : nullptr, &frame_model,
+                                          every > 0 && r.index % every == 0);
+      r.check = CheckLabelWithTrack(scene, r.T_camera_object_label, frame_model, step, options.validate);
       r.mode = std::string(ToString(step.mode));
     }
     Score(in, options, r);

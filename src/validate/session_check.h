@@ -49,10 +49,12 @@ struct SessionCheckOptions {
   std::filesystem::path masks_dir;
   MaskValues mask_values = MaskValues::kObjectId;
   CropBackend crops = CropBackend::kSurface;
-  /// Sequence mode: one ObjectTracker per (camera, instance) runs over its frames in order and each label
-  /// is checked against the tracker's measurement (CheckLabelWithTrack). Off: every record is checked
-  /// on its own (CheckLabelInFrame, seeded as validate.check_seed says).
-  bool track = false;
+  /// Sequence mode (the default): one ObjectTracker per (camera, instance) runs over its frames in order,
+  /// seeded by the label where it acquires (the first frame, after a failed step, every
+  /// tracking.reacquire_every frames), and each label is checked against the tracker's measurement
+  /// (CheckLabelWithTrack). Off: every record is checked on its own (CheckLabelInFrame, seeded as
+  /// validate.check_seed says).
+  bool track = true;
   int threads = 0;  ///< worker threads; 0 = OpenMP's default
   /// Only the records of frames [frame_begin, frame_end) are checked (a shard; -1: to the end), and of
   /// those only frames whose stream index is a multiple of `frame_stride` (1: every frame). The

@@ -10,11 +10,12 @@ std::string_view ToString(TrackMode mode) {
 
 ObjectTracker::ObjectTracker(const CropSource& model, const ValidateOptions& options)
     : model_(model), options_((options.check(), options)), filter_(options.filter) {
-  view_crops_ = MakeViewSphereCrops(model_, options_.acquisition);
   model_box_ = BoundingBox(model_.surface_model(), options_.tracking.box_margin_m);
 }
 
-TrackStep ObjectTracker::Step(const PointCloud& scene_camera, const Rigid3d& T_world_camera, int64_t stamp_ns) {
+TrackStep ObjectTracker::Step(const PointCloud& scene_camera, const Rigid3d& T_world_camera, int64_t stamp_ns,
+                              const Rigid3d* T_camera_object_prior, const CropSource* frame_model, bool cross_check) {
+  const CropSource& model = frame_model ? *frame_model : model_;
   TrackStep step;
   if (filter_.initialized()) filter_.Predict(stamp_ns);
   if (filter_.lost()) {
@@ -25,19 +26,35 @@ TrackStep ObjectTracker::Step(const PointCloud& scene_camera, const Rigid3d& T_w
   const PointCloud scene = VoxelDownsample(scene_camera, options_.scene_voxel_m);
   step.mode = mode_;
   step.scene_points = static_cast<int>(scene.size());
+  bool acquire = false;
   if (step.scene_points < options_.min_scene_points) {
     step.note += Str("too few scene points (", step.scene_points, "); propagating");
   } else if (mode_ == TrackMode::kTracking) {
-    RunTracking(scene, T_world_camera, &step);
+    if (cross_check) {
+      step.note += "periodic cross-check; ";
+      acquire = true;
+    } else {
+      RunTracking(scene, T_world_camera, model, &step);
+      // A failed step (back to acquisition) is followed by an acquisition now when a prior can seed it.
+      acquire = mode_ == TrackMode::kAcquisition && T_camera_object_prior;
+    }
   } else {
-    RunAcquisition(scene, T_world_camera, stamp_ns, &step);
+    acquire = true;
+  }
+  if (acquire) {
+    TrackStep fresh;
+    fresh.scene_points = static_cast<int>(scene.size());
+    fresh.note = std::move(step.note);
+    step = std::move(fresh);
+    RunAcquisition(scene, T_world_camera, stamp_ns, T_camera_object_prior, model, &step);
   }
   step.has_pose = filter_.initialized() && !filter_.lost();
   if (step.has_pose) step.T_camera_object = T_world_camera.inverse() * filter_.pose();
   return step;
 }
 
-void ObjectTracker::RunTracking(const PointCloud& scene, const Rigid3d& T_world_camera, TrackStep* step) {
+void ObjectTracker::RunTracking(const PointCloud& scene, const Rigid3d& T_world_camera, const CropSource& model,
+                                TrackStep* step) {
   const Rigid3d T_camera_world = T_world_camera.inverse();
   const Rigid3d predicted = T_camera_world * filter_.pose();
   const PointCloud pruned = CropToBox(scene, predicted, model_box_);
@@ -48,10 +65,17 @@ void ObjectTracker::RunTracking(const PointCloud& scene, const Rigid3d& T_world_
     return;
   }
   const PointGrid grid(pruned);
-  const ModelCrop crop = model_.Crop(predicted);
-  step->icp = AlignPointToPoint(crop.points_model, grid, predicted, options_.tracking.icp);
+  const ModelCrop crop = model.Crop(predicted);
+  // Point-to-plane from the prediction, moving only in the directions the depth constrains: a table top
+  // tracked by point-to-point ICP slid along its plane from frame to frame.
+  const PlaneRefinement refined = RefinePointToPlane(crop, predicted, grid, options_.observability,
+                                                     options_.tracking.initial_gate_m);
+  step->icp.T_target_source = refined.T_camera_object;
+  step->icp.iterations = refined.iterations;
+  step->icp.inlier_rmse_m = refined.rmse_m;
+  step->icp.converged = refined.iterations > 0;
   step->measured = true;
-  step->T_camera_object_measured = step->icp.T_target_source;
+  step->T_camera_object_measured = refined.T_camera_object;
   step->score = ScoreAlignment(crop.points_model, step->T_camera_object_measured, grid, options_.alignment).score;
   if (step->score < options_.tracking.theta) {
     mode_ = TrackMode::kAcquisition;
@@ -64,14 +88,18 @@ void ObjectTracker::RunTracking(const PointCloud& scene, const Rigid3d& T_world_
 }
 
 void ObjectTracker::RunAcquisition(const PointCloud& scene, const Rigid3d& T_world_camera, int64_t stamp_ns,
-                                   TrackStep* step) {
+                                   const Rigid3d* T_camera_object_prior, const CropSource& model, TrackStep* step) {
   const PointGrid grid(scene);
-  // While the filter still holds a pose, its prediction seeds the hypotheses; otherwise the view sphere.
-  const AcquisitionResult r =
-      filter_.initialized()
-          ? AcquireAround(scene, grid, model_, T_world_camera.inverse() * filter_.pose(), options_.acquisition,
-                          options_.alignment)
-          : Acquire(scene, grid, model_, view_crops_, options_.acquisition, options_.alignment);
+  // A given prior seeds the hypotheses, else the filter's prediction while it holds a pose, else the
+  // view sphere (whose crops are made on first use).
+  AcquisitionResult r;
+  if (T_camera_object_prior || filter_.initialized()) {
+    const Rigid3d prior = T_camera_object_prior ? *T_camera_object_prior : T_world_camera.inverse() * filter_.pose();
+    r = AcquireAround(scene, grid, model, prior, options_.acquisition, options_.alignment);
+  } else {
+    if (view_crops_.empty()) view_crops_ = MakeViewSphereCrops(model_, options_.acquisition);
+    r = Acquire(scene, grid, model, view_crops_, options_.acquisition, options_.alignment);
+  }
   if (r.best < 0) {
     step->note += r.reason;
     return;

@@ -34,15 +34,25 @@ class ObjectTracker {
 
   /// One frame: the object's scene cloud (camera frame, e.g. DepthToPointsMasked), the camera pose in
   /// the world from its tracker body, and the frame time. Stamps must increase.
-  TrackStep Step(const PointCloud& scene_camera, const Rigid3d& T_world_camera, int64_t stamp_ns);
+  /// `T_camera_object_prior` (may be null), e.g. the frame's label, seeds the acquisitions (the first
+  /// frame, after a loss, a cross-check); without it the filter's prediction seeds them while it holds a
+  /// pose, else the paper's view sphere. `cross_check`: run an acquisition instead of a tracking step
+  /// (a periodic check against a track settled on a wrong minimum; the session check asks for one at
+  /// every frame whose index is a multiple of TrackingOptions::reacquire_every).
+  /// A tracking step that fails (too few points near the prediction, a score below theta) is followed
+  /// by an acquisition in the same frame when a prior is given. `frame_model` (may be null) replaces
+  /// the tracker's crop source for this frame (crops as the frame sees them, VisibleInFrameCropSource).
+  TrackStep Step(const PointCloud& scene_camera, const Rigid3d& T_world_camera, int64_t stamp_ns,
+                 const Rigid3d* T_camera_object_prior = nullptr, const CropSource* frame_model = nullptr,
+                 bool cross_check = false);
 
   TrackMode mode() const { return mode_; }
   const PoseFilter& filter() const { return filter_; }
-  const std::vector<ModelCrop>& view_crops() const { return view_crops_; }
 
  private:
-  void RunAcquisition(const PointCloud& scene, const Rigid3d& T_world_camera, int64_t stamp_ns, TrackStep* step);
-  void RunTracking(const PointCloud& scene, const Rigid3d& T_world_camera, TrackStep* step);
+  void RunAcquisition(const PointCloud& scene, const Rigid3d& T_world_camera, int64_t stamp_ns,
+                      const Rigid3d* T_camera_object_prior, const CropSource& model, TrackStep* step);
+  void RunTracking(const PointCloud& scene, const Rigid3d& T_world_camera, const CropSource& model, TrackStep* step);
 
   const CropSource& model_;
   ValidateOptions options_;

@@ -7,6 +7,8 @@ namespace mocap {
 void TrackingOptions::check() const {
   if (!(theta > 0 && theta <= 1)) throw InputError("TrackingOptions", "theta must lie in (0, 1]");
   if (!(box_margin_m >= 0)) throw InputError("TrackingOptions", "box_margin_m must be >= 0");
+  if (reacquire_every < 0) throw InputError("TrackingOptions", "reacquire_every must be >= 0");
+  if (!(initial_gate_m > 0)) throw InputError("TrackingOptions", "initial_gate_m must be positive");
   icp.check();
 }
 
@@ -27,10 +29,12 @@ void ValidateOptions::check() const {
   if (min_scene_points < 3) throw InputError("ValidateOptions", "min_scene_points must be >= 3");
   alignment.check();
   crop.check();
+  crop_cache.check();
   acquisition.check();
   tracking.check();
   filter.check();
   verdict.check();
+  observability.check();
   if (tracking.theta > acquisition.epsilon)
     throw InputError("ValidateOptions", "tracking.theta must not exceed acquisition.epsilon");
 }

@@ -3,7 +3,9 @@
 // (docs/validation.md lists each with its source).
 #include "validate/acquisition.h"
 #include "validate/alignment_score.h"
+#include "validate/crop_cache.h"
 #include "validate/icp.h"
+#include "validate/observability.h"
 #include "validate/model_crop.h"
 #include "validate/pose_filter.h"
 
@@ -16,8 +18,17 @@ struct TrackingOptions {
   /// Scene points farther than this outside the model's bounding box at the predicted pose are pruned
   /// ("removing points outside a bounding box of the latest registered model pose").
   double box_margin_m = 0.02;
-  /// Tight convergence: point-to-point ICP slides slowly along planar faces, and a loose stop leaves
-  /// millimetres of slide in the pose.
+  /// The session check runs an acquisition instead of a tracking step at every frame whose index is a
+  /// multiple of this (seeded by the label): a cross-check against a track settled on a wrong minimum,
+  /// and a fresh start at fixed frames, so validation shards that begin at such frames merge into
+  /// what one pass writes. 0: acquisitions only at the start and after a failed step.
+  int reacquire_every = 30;
+  /// The tracking step is point-to-plane from the prediction in the observable directions
+  /// (RefinePointToPlane, observability.refine_iterations); its first correspondence gate, metres.
+  double initial_gate_m = 0.02;
+  /// A point-to-point tracking step (AlignPointToPoint from the prediction; bench_validate's kernel, with
+  /// PCL's beside it). Tight convergence: point-to-point ICP slides slowly along planar faces, and a
+  /// loose stop leaves millimetres of slide in the pose.
   IcpOptions icp = [] {
     IcpOptions o;
     o.initial_correspondence_distance_m = 0.02;
@@ -63,10 +74,14 @@ struct ValidateOptions {
   AcquisitionSeed check_seed = AcquisitionSeed::kLabel;
   AlignmentOptions alignment;
   CropOptions crop;
+  /// Crops of the session check come from a cache per object and view (CachedCropSource).
+  CropCacheOptions crop_cache;
   AcquisitionOptions acquisition;
   TrackingOptions tracking;
   PoseFilterOptions filter;
   VerdictOptions verdict;
+  /// Which directions the depth constrains; the verdict judges only those.
+  ObservabilityOptions observability;
   /// Throws InputError naming the first invalid setting.
   void check() const;
 };

@@ -1,0 +1,229 @@
+#include "validate/observability.h"
+
+#include <Eigen/Eigenvalues>
+#include <cmath>
+#include <cstdio>
+
+#include "core/check.h"
+#include "validate/crop_cache.h"
+
+namespace mocap {
+namespace {
+
+std::string Direction(const Eigen::Vector3d& d) {
+  char text[64];
+  std::snprintf(text, sizeof text, "(%.2f, %.2f, %.2f)", d.x() + 0.0, d.y() + 0.0, d.z() + 0.0);
+  return text;
+}
+
+/// An orthonormal basis (columns) of the span of `vectors`, by SVD (rank by a relative tolerance).
+Eigen::MatrixXd Span(const std::vector<Eigen::Vector3d>& vectors) {
+  if (vectors.empty()) return Eigen::MatrixXd(3, 0);
+  Eigen::MatrixXd M(3, static_cast<Eigen::Index>(vectors.size()));
+  for (size_t i = 0; i < vectors.size(); ++i) M.col(static_cast<Eigen::Index>(i)) = vectors[i];
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(M, Eigen::ComputeFullU);
+  int rank = 0;
+  for (Eigen::Index i = 0; i < svd.singularValues().size(); ++i) rank += svd.singularValues()(i) > 0.3;
+  return svd.matrixU().leftCols(rank);
+}
+
+/// One phrase per kind of motion: "translation along d", "... within the plane normal to n", "... in
+/// every direction"; the same for rotation (about the analysis centre).
+void Describe(const std::vector<Eigen::Vector3d>& motions, const char* kind, const char* preposition,
+              std::vector<std::string>* out) {
+  const Eigen::MatrixXd basis = Span(motions);
+  if (basis.cols() == 1) out->push_back(Str(kind, " ", preposition, " ", Direction(basis.col(0))));
+  if (basis.cols() == 2)
+    out->push_back(Str(kind, " ", preposition, " any direction normal to ",
+                       Direction(Eigen::Vector3d(basis.col(0)).cross(Eigen::Vector3d(basis.col(1))).normalized())));
+  if (basis.cols() == 3) out->push_back(Str(kind, " in every direction"));
+}
+
+}  // namespace
+
+void ObservabilityOptions::check() const {
+  if (!(min_information > 0 && min_information < 1)) throw InputError("ObservabilityOptions", "min_information must lie in (0, 1)");
+  if (!(probe_m > 0)) throw InputError("ObservabilityOptions", "probe_m must be positive");
+  if (!(probe_support_m > 0)) throw InputError("ObservabilityOptions", "probe_support_m must be positive");
+  if (!(probe_min_loss > 0 && probe_min_loss < 1)) throw InputError("ObservabilityOptions", "probe_min_loss must lie in (0, 1)");
+  if (!(support_distance_m > 0)) throw InputError("ObservabilityOptions", "support_distance_m must be positive");
+  if (!(normal_radius_m > 0)) throw InputError("ObservabilityOptions", "normal_radius_m must be positive");
+  if (refine_iterations < 0) throw InputError("ObservabilityOptions", "refine_iterations must be >= 0");
+}
+
+namespace {
+
+using Vector6d = Eigen::Matrix<double, 6, 1>;
+using Matrix6d = Eigen::Matrix<double, 6, 6>;
+
+/// Point-to-plane normal equations at T_camera_object over the supported crop points: A and b of the
+/// residuals n.(T p - s) (camera frame), per point, about the supported points' centroid.
+struct NormalEquations {
+  Matrix6d A = Matrix6d::Zero();
+  Vector6d b = Vector6d::Zero();
+  Eigen::Vector3d center = Eigen::Vector3d::Zero();
+  double radius_m = 1.0;
+  int supported = 0;
+  double rmse_m = 0.0;  ///< of the point-to-plane residuals
+};
+
+NormalEquations Build(const PointCloud& points, const PointCloud& normals, const Rigid3d& T_camera_object,
+                      const PointGrid& scene, double gate_m) {
+  NormalEquations e;
+  std::vector<std::pair<size_t, Eigen::Vector3d>> matches;  // crop index, scene point (camera frame)
+  for (size_t i = 0; i < points.size(); ++i) {
+    size_t index = 0;
+    double distance_sq = 0;
+    if (scene.Nearest(T_camera_object * points[i], gate_m, &index, &distance_sq))
+      matches.emplace_back(i, scene.point(index));
+  }
+  e.supported = static_cast<int>(matches.size());
+  if (matches.empty()) return e;
+  for (const auto& [i, s] : matches) e.center += points[i];
+  e.center /= static_cast<double>(matches.size());
+  double radius_sq = 0;
+  for (const auto& [i, s] : matches) radius_sq += (points[i] - e.center).squaredNorm();
+  e.radius_m = std::max(1e-3, std::sqrt(radius_sq / static_cast<double>(matches.size())));
+  const Eigen::Matrix3d R = T_camera_object.rotation_matrix();
+  for (const auto& [i, s] : matches) {
+    Vector6d J;
+    J << (points[i] - e.center).cross(normals[i]) / e.radius_m, normals[i];
+    const double r = (R * normals[i]).dot(T_camera_object * points[i] - s);
+    e.A += J * J.transpose();
+    e.b += J * r;
+    e.rmse_m += r * r;
+  }
+  e.rmse_m = std::sqrt(e.rmse_m / static_cast<double>(matches.size()));
+  e.A /= static_cast<double>(matches.size());
+  e.b /= static_cast<double>(matches.size());
+  return e;
+}
+
+/// The eigen-analysis of equations `e`: directions judged by their information alone.
+Observability Analyse(const NormalEquations& e, const ObservabilityOptions& options) {
+  Observability out;
+  out.supported_points = e.supported;
+  if (e.supported < 10) return out;
+  const Eigen::SelfAdjointEigenSolver<Matrix6d> eig(e.A);
+  out.analysed = true;
+  out.information = eig.eigenvalues();
+  out.directions = eig.eigenvectors();
+  out.center_object = e.center;
+  out.radius_m = e.radius_m;
+  for (int k = 0; k < 6; ++k) out.judged[k] = out.information(k) >= options.min_information;
+  return out;
+}
+
+/// `observable` and the words for the directions not judged.
+void Summarise(Observability* o) {
+  o->observable = 0;
+  o->unobservable.clear();
+  std::vector<Eigen::Vector3d> rotations, translations;
+  for (int k = 0; k < 6; ++k) {
+    if (o->judged[k]) {
+      ++o->observable;
+      continue;
+    }
+    const Vector6d v = o->directions.col(k);
+    const bool rotation = v.head<3>().norm() > v.tail<3>().norm();  // mostly a turn, or mostly a shift
+    (rotation ? rotations : translations).push_back(rotation ? v.head<3>().normalized() : v.tail<3>().normalized());
+  }
+  Describe(translations, "translation", "along", &o->unobservable);
+  Describe(rotations, "rotation", "about", &o->unobservable);
+}
+
+/// The pose moved by `step` ([L w; v], object frame about `center`).
+Rigid3d Moved(const Rigid3d& T_camera_object, const Vector6d& step, const Eigen::Vector3d& center, double radius_m) {
+  const Eigen::Vector3d w = step.head<3>() / radius_m, v = step.tail<3>();
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(w.norm(), w.norm() > 0 ? w.normalized() : Eigen::Vector3d::UnitX())
+                                .toRotationMatrix();
+  return T_camera_object * Rigid3d(R, center - R * center + v);  // p -> c + R (p - c) + v
+}
+
+/// Share of `crop` points (at T) with a scene point within `gate_m`.
+double SupportedShare(const PointCloud& crop_model, const Rigid3d& T_camera_object, const PointGrid& scene, double gate_m) {
+  if (crop_model.empty()) return 0.0;
+  int supported = 0;
+  for (const Eigen::Vector3d& p : crop_model) {
+    size_t index = 0;
+    double distance_sq = 0;
+    supported += scene.Nearest(T_camera_object * p, gate_m, &index, &distance_sq);
+  }
+  return static_cast<double>(supported) / static_cast<double>(crop_model.size());
+}
+
+/// Probes every direction not judged by its information: both ways, the larger loss counts.
+void Probe(const CropSource& model, const Rigid3d& T_camera_object, const PointGrid& scene,
+           const ObservabilityOptions& options, Observability* o) {
+  const double base = SupportedShare(model.Crop(T_camera_object).points_model, T_camera_object, scene,
+                                     options.probe_support_m);
+  for (int k = 0; k < 6; ++k) {
+    if (o->judged[k]) continue;
+    double loss = 0.0;
+    for (const double sign : {1.0, -1.0}) {
+      const Rigid3d moved = Moved(T_camera_object, sign * options.probe_m * o->directions.col(k), o->center_object, o->radius_m);
+      loss = std::max(loss, base - SupportedShare(model.Crop(moved).points_model, moved, scene, options.probe_support_m));
+    }
+    o->probe_loss[k] = loss;
+    o->judged[k] = loss >= options.probe_min_loss;
+  }
+}
+
+PointCloud NormalsOf(const ModelCrop& crop, const Rigid3d& T_camera_object, double radius_m) {
+  if (crop.normals_model.size() == crop.points_model.size()) return crop.normals_model;
+  return EstimateNormals(crop.points_model, radius_m, T_camera_object.inverse().translation());
+}
+
+}  // namespace
+
+Observability AnalyseObservability(const CropSource& model, const Rigid3d& T_camera_object, const PointGrid& scene_camera,
+                                   const ObservabilityOptions& options) {
+  const ModelCrop crop = model.Crop(T_camera_object);
+  const PointCloud normals = NormalsOf(crop, T_camera_object, options.normal_radius_m);
+  Observability out =
+      Analyse(Build(crop.points_model, normals, T_camera_object, scene_camera, options.support_distance_m), options);
+  if (out.analysed) {
+    Probe(model, T_camera_object, scene_camera, options, &out);
+    Summarise(&out);
+  }
+  return out;
+}
+
+PlaneRefinement RefinePointToPlane(const ModelCrop& crop, const Rigid3d& T_camera_object_init,
+                                   const PointGrid& scene_camera, const ObservabilityOptions& options,
+                                   double first_gate_m) {
+  const PointCloud normals = NormalsOf(crop, T_camera_object_init, options.normal_radius_m);
+  PlaneRefinement out;
+  out.T_camera_object = T_camera_object_init;
+  for (int iteration = 0; iteration < options.refine_iterations; ++iteration) {
+    const double gate_m = iteration == 0 ? std::max(first_gate_m, options.support_distance_m) : options.support_distance_m;
+    const NormalEquations e = Build(crop.points_model, normals, out.T_camera_object, scene_camera, gate_m);
+    out.observability = Analyse(e, options);
+    out.rmse_m = e.rmse_m;
+    if (!out.observability.analysed) return out;
+    // Gauss-Newton step in the observable directions only: the pose stays where it started along the
+    // others (the label, or the acquisition's estimate), rather than drifting on noise.
+    Vector6d step = Vector6d::Zero();
+    for (int k = 0; k < 6; ++k)
+      if (out.observability.judged[k])
+        step -= out.observability.directions.col(k) * (out.observability.directions.col(k).dot(e.b) /
+                                                        out.observability.information(k));
+    out.T_camera_object = Moved(out.T_camera_object, step, e.center, e.radius_m);
+    out.iterations = iteration + 1;
+    if (step.tail<3>().norm() < 1e-6 && step.head<3>().norm() < 1e-5 * e.radius_m) break;
+  }
+  return out;
+}
+
+ObservedDifference ObservedPart(const Observability& o, const Rigid3d& estimate, const Rigid3d& label) {
+  // The motion taking the estimate to the label, in the object frame about the analysis centre.
+  const Rigid3d delta = estimate.inverse() * label;
+  Eigen::Matrix<double, 6, 1> d;
+  d << o.radius_m * delta.rvec(), delta * o.center_object - o.center_object;
+  Eigen::Matrix<double, 6, 1> observed = Eigen::Matrix<double, 6, 1>::Zero();
+  for (int k = 0; k < 6; ++k)
+    if (!o.analysed || o.judged[k]) observed += o.directions.col(k) * o.directions.col(k).dot(d);
+  return {1e3 * observed.tail<3>().norm(), DegFromRad(observed.head<3>().norm() / o.radius_m)};
+}
+
+}  // namespace mocap

@@ -1,0 +1,93 @@
+#pragma once
+// Which directions of an object's pose the measured depth constrains. A depth point constrains the pose
+// along its surface normal: moving the model within its own surface (a table top sliding in its plane, a
+// funnel spinning about its axis of revolution) leaves every point on the scene surface. The first-order
+// change of the point-to-plane residual of model point p (normal n, object frame) under a small motion
+// [w, v] is (p x n).w + n.v, so the information of the registration is A = sum_i J_i J_i^T with
+// J_i = [(p_i - c) x n_i / L ; n_i] over the model points the scene supports (a scene point within tau),
+// c their centroid and L their RMS radius (both halves in metres). Eigenvectors of A with little
+// information may still be seen through the object's outline: a box showing two faces slides along their
+// common edge only by moving the faces' ends. So each weak direction is probed: the pose is moved 1 cm
+// (RMS over the crop) along it, the crop seen from there taken again (clipped by the image and by what
+// hides it, as the frame sees it), and when that costs the alignment a share of its supported points the
+// direction is observable. The others are reported unobservable, and the verdict judges the estimate's
+// difference from the label only in the observable ones (docs/validation.md "Degrees of freedom").
+#include <array>
+#include <string>
+#include <vector>
+
+#include "core/rigid3.h"
+#include "validate/model_crop.h"
+#include "validate/point_grid.h"
+
+namespace mocap {
+
+struct ObservabilityOptions {
+  /// Information per supporting point from which a direction counts as observable by the surface normals
+  /// alone. A direction every point's normal lies along scores 1.
+  double min_information = 0.1;
+  /// Directions below min_information are probed: observable when moving the pose `probe_m` along them
+  /// (RMS displacement over the crop) loses at least `probe_min_loss` of the crop points with a scene
+  /// point within `probe_support_m` (tighter than tau, which a point moved 1 cm along a slope still meets;
+  /// a few times the sensor's noise).
+  double probe_m = 0.01;
+  double probe_support_m = 0.004;
+  double probe_min_loss = 0.03;
+  /// A model point is supported when a scene point lies within this (the alignment's tau), metres.
+  double support_distance_m = 0.01;
+  /// Normals are estimated from the crop over this radius when the crop comes without them, metres.
+  double normal_radius_m = 0.012;
+  /// Gauss-Newton iterations of the point-to-plane refinement (RefinePointToPlane); 0: none.
+  int refine_iterations = 10;
+  void check() const;
+};
+
+struct Observability {
+  bool analysed = false;       ///< false: too few supported points; every direction taken as observable
+  int supported_points = 0;
+  int observable = 6;          ///< directions judged (by their information or by the probe)
+  /// Eigenvalues (per supported point, ascending) and eigenvectors (columns) of A, in the object frame
+  /// about `center_object`, rotation part scaled by `radius_m`.
+  Eigen::Matrix<double, 6, 1> information = Eigen::Matrix<double, 6, 1>::Ones();
+  Eigen::Matrix<double, 6, 6> directions = Eigen::Matrix<double, 6, 6>::Identity();
+  std::array<bool, 6> judged = {true, true, true, true, true, true};  ///< per direction: observable
+  /// Per probed direction (information below min_information), the share of supported points a probe
+  /// move lost; -1 when not probed.
+  std::array<double, 6> probe_loss = {-1, -1, -1, -1, -1, -1};
+  Eigen::Vector3d center_object = Eigen::Vector3d::Zero();
+  double radius_m = 1.0;
+  /// The unobservable directions in words, object frame ("translation along any direction normal to
+  /// (0.00, 0.00, 1.00)", "rotation about (0.00, 0.00, 1.00)"); empty when all six are observable.
+  std::vector<std::string> unobservable;
+};
+
+/// The analysis at T_camera_object for the crop seen from there (normals estimated when it has none)
+/// against the scene index (camera frame); directions below min_information are probed with crops from
+/// `model` (the frame's crop source) and judged observable when the probe loses support.
+Observability AnalyseObservability(const CropSource& model, const Rigid3d& T_camera_object, const PointGrid& scene_camera,
+                                   const ObservabilityOptions& options);
+
+/// Point-to-plane refinement of an estimate (Chen & Medioni), moving it only in the directions with
+/// information above min_information: point-to-point ICP creeps along weakly constrained directions (a table seen with one edge),
+/// point-to-plane converges there in a few steps, and its normal equations are the ones analysed above.
+struct PlaneRefinement {
+  Rigid3d T_camera_object;
+  Observability observability;  ///< at the last iteration's start
+  int iterations = 0;
+  double rmse_m = 0.0;  ///< point-to-plane residual RMS at the last iteration's start
+};
+/// `first_gate_m`: the correspondence gate of the first iteration (a tracking prediction may be a
+/// centimetre or two off); later ones use options.support_distance_m.
+PlaneRefinement RefinePointToPlane(const ModelCrop& crop, const Rigid3d& T_camera_object_init,
+                                   const PointGrid& scene_camera, const ObservabilityOptions& options,
+                                   double first_gate_m = 0.0);
+
+/// The difference of `label` from `estimate` (both T_camera_object) restricted to the observable
+/// directions: translation of the analysis centre (mm) and rotation (deg).
+struct ObservedDifference {
+  double position_mm = 0.0;
+  double rotation_deg = 0.0;
+};
+ObservedDifference ObservedPart(const Observability& observability, const Rigid3d& estimate, const Rigid3d& label);
+
+}  // namespace mocap
