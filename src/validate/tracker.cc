@@ -30,8 +30,13 @@ TrackStep ObjectTracker::Step(const PointCloud& scene_camera, const Rigid3d& T_w
   if (step.scene_points < options_.min_scene_points) {
     step.note += Str("too few scene points (", step.scene_points, "); propagating");
   } else if (mode_ == TrackMode::kTracking) {
-    if (cross_check) {
-      step.note += "periodic cross-check; ";
+    const bool gap = stamp_ns - last_stamp_ns_ > static_cast<int64_t>(options_.tracking.max_gap_s * 1e9);
+    const Rigid3d predicted = T_world_camera.inverse() * filter_.pose();
+    const bool prior_far = T_camera_object_prior &&
+                           (TranslationDistanceM(predicted, *T_camera_object_prior) > options_.tracking.max_prior_distance_m ||
+                            RotationDistanceDeg(predicted, *T_camera_object_prior) > options_.tracking.max_prior_angle_deg);
+    if (cross_check || gap || prior_far) {
+      step.note += gap ? "frames too far apart to track; " : prior_far ? "prior far from the track; " : "periodic cross-check; ";
       acquire = true;
     } else {
       RunTracking(scene, T_world_camera, model, &step);
@@ -48,6 +53,7 @@ TrackStep ObjectTracker::Step(const PointCloud& scene_camera, const Rigid3d& T_w
     step = std::move(fresh);
     RunAcquisition(scene, T_world_camera, stamp_ns, T_camera_object_prior, model, &step);
   }
+  last_stamp_ns_ = stamp_ns;
   step.has_pose = filter_.initialized() && !filter_.lost();
   if (step.has_pose) step.T_camera_object = T_world_camera.inverse() * filter_.pose();
   return step;

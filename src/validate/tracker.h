@@ -60,6 +60,7 @@ class ObjectTracker {
   Box3d model_box_;
   PoseFilter filter_;
   TrackMode mode_ = TrackMode::kAcquisition;
+  int64_t last_stamp_ns_ = 0;
 };
 
 }  // namespace mocap

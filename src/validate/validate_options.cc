@@ -9,6 +9,9 @@ void TrackingOptions::check() const {
   if (!(box_margin_m >= 0)) throw InputError("TrackingOptions", "box_margin_m must be >= 0");
   if (reacquire_every < 0) throw InputError("TrackingOptions", "reacquire_every must be >= 0");
   if (!(initial_gate_m > 0)) throw InputError("TrackingOptions", "initial_gate_m must be positive");
+  if (!(max_gap_s > 0)) throw InputError("TrackingOptions", "max_gap_s must be positive");
+  if (!(max_prior_distance_m > 0 && max_prior_angle_deg > 0))
+    throw InputError("TrackingOptions", "max_prior_distance_m and max_prior_angle_deg must be positive");
   icp.check();
 }
 

@@ -23,6 +23,15 @@ struct TrackingOptions {
   /// and a fresh start at fixed frames, so validation shards that begin at such frames merge into
   /// what one pass writes. 0: acquisitions only at the start and after a failed step.
   int reacquire_every = 30;
+  /// Tracking assumes consecutive frames: after a longer gap since the tracker's last frame it acquires
+  /// instead (sparse frames seconds apart, such as LM-O's, or a long stretch of bad input), seconds.
+  double max_gap_s = 0.5;
+  /// When the frame's prior (the label) lies farther than this from the track's prediction the tracker
+  /// acquires (seeded by the prior) instead of tracking: frames that are not a sequence (LM-O's images
+  /// carry stamps 1/30 s apart), or a track gone astray. A wrong label within these bounds is still
+  /// tracked and compared; beyond them its acquisition finds where the object is.
+  double max_prior_distance_m = 0.03;
+  double max_prior_angle_deg = 15.0;
   /// The tracking step is point-to-plane from the prediction in the observable directions
   /// (RefinePointToPlane, observability.refine_iterations); its first correspondence gate, metres.
   double initial_gate_m = 0.02;

@@ -1,0 +1,217 @@
+// Degrees of freedom of a label check (validate/observability.h): a table top whose edges lie outside the
+// image constrains only its height and tilt; a body of revolution everything but its spin; a box
+// showing two faces everything, its slide along their common edge through its outline.
+#include "validate/observability.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <random>
+
+#include "validate/crop_cache.h"
+#include "validate/label_check.h"
+
+namespace mocap {
+namespace {
+
+PinholeCamera Kinect() { return PinholeCamera{640, 480, 525, 525, 319.5, 239.5, {}}; }
+
+/// A table top 2.4 x 1.8 m (top face at z = 0, 3 cm thick) as triangles.
+TriangleMesh Slab(double x_m, double y_m, double thickness_m) {
+  TriangleMesh mesh;
+  for (int i = 0; i < 8; ++i)
+    mesh.vertices.push_back({(i & 1 ? 0.5 : -0.5) * x_m, (i & 2 ? 0.5 : -0.5) * y_m, i & 4 ? 0.0 : -thickness_m});
+  const int faces[6][4] = {{0, 1, 3, 2}, {4, 6, 7, 5}, {0, 4, 5, 1}, {2, 3, 7, 6}, {0, 2, 6, 4}, {1, 5, 7, 3}};
+  for (const auto& f : faces) {
+    mesh.triangles.push_back({f[0], f[1], f[2]});
+    mesh.triangles.push_back({f[0], f[2], f[3]});
+  }
+  return mesh;
+}
+
+/// A cone of revolution about +z (a funnel's outside): radius 0.09 m at z = 0 to 0.02 m at z = 0.15 m.
+TriangleMesh Cone() {
+  TriangleMesh mesh;
+  const int n = 64;
+  for (int ring = 0; ring < 2; ++ring)
+    for (int i = 0; i < n; ++i) {
+      const double a = 2 * std::numbers::pi * i / n, r = ring ? 0.02 : 0.09;
+      mesh.vertices.push_back({r * std::cos(a), r * std::sin(a), ring ? 0.15 : 0.0});
+    }
+  for (int i = 0; i < n; ++i) {
+    const int j = (i + 1) % n;
+    mesh.triangles.push_back({i, j, n + j});
+    mesh.triangles.push_back({i, n + j, n + i});
+  }
+  return mesh;
+}
+
+/// Depth of the plane z = 0 of the table frame, every pixel (the table fills the image), 1 mm noise.
+struct Frame {
+  DepthImage depth;
+  LabelImage mask;
+};
+Frame TableFrame(const Rigid3d& T_camera_table, std::mt19937& rng) {
+  const PinholeCamera camera = Kinect();
+  Frame f{DepthImage(640, 480, 0.0f), LabelImage(640, 480, 4)};
+  const Eigen::Vector3d n = T_camera_table.rotation_matrix().col(2), p0 = T_camera_table.translation();
+  std::normal_distribution<double> noise(0.0, 0.001);
+  for (int v = 0; v < 480; ++v)
+    for (int u = 0; u < 640; ++u) {
+      const Eigen::Vector3d ray((u - camera.cx) / camera.fx, (v - camera.cy) / camera.fy, 1.0);
+      f.depth.at(u, v) = static_cast<float>(n.dot(p0) / n.dot(ray) + noise(rng));  // z of the hit
+    }
+  return f;
+}
+
+/// Dense surface samples splatted with a nearest-depth test (the mesh seen by the camera), 1 mm noise.
+Frame SplatFrame(const TriangleMesh& mesh, const Rigid3d& T_camera_object, std::mt19937& rng) {
+  const PinholeCamera camera = Kinect();
+  Frame f{DepthImage(640, 480, 0.0f), LabelImage(640, 480, 0)};
+  for (const auto& p_model : SampleSurface(mesh, 0.0007)) {
+    const Eigen::Vector3d p = T_camera_object * p_model;
+    const auto px = camera.Project(p);
+    if (!px) continue;
+    const int u = static_cast<int>(std::lround(px->x())), v = static_cast<int>(std::lround(px->y()));
+    if (!f.depth.contains(u, v) || (f.depth.at(u, v) != 0.0f && p.z() >= f.depth.at(u, v))) continue;
+    f.depth.at(u, v) = static_cast<float>(p.z());
+    f.mask.at(u, v) = 4;
+  }
+  std::normal_distribution<double> noise(0.0, 0.001);
+  for (auto& d : f.depth.data)
+    if (d > 0) d += static_cast<float>(noise(rng));
+  return f;
+}
+
+class TableTest : public ::testing::Test {
+ protected:
+  // The camera 0.8 m above the table top, tilted 15 deg: the image sees the top only.
+  Rigid3d T_camera_table_ = Rigid3d::FromRvec(Eigen::Vector3d(std::numbers::pi - RadFromDeg(15), 0, 0).eval(),
+                                              {0.03, -0.02, 0.8});
+  TriangleMesh mesh_ = Slab(2.4, 1.8, 0.03);
+  SurfaceCropSource surface_ = SurfaceCropSource::FromMesh(mesh_, CropOptions{0.01});
+  CachedCropSource model_{surface_, CropCacheOptions{}};
+  ValidateOptions options_ = [] {
+    ValidateOptions o;
+    o.crop.pixel_m = 0.01;
+    return o;
+  }();
+  std::mt19937 rng_{3};
+  Frame frame_ = TableFrame(T_camera_table_, rng_);
+
+  LabelCheck Check(const Rigid3d& label) {
+    return CheckLabelInFrame(frame_.depth, Kinect(), frame_.mask, 4, label, model_, {}, options_);
+  }
+};
+
+/// The unobservable directions of `o` split into their dominant parts: unit translations and unit
+/// rotation axes (object frame).
+struct Hidden {
+  std::vector<Eigen::Vector3d> translations, rotations;
+};
+Hidden HiddenDirections(const Observability& o) {
+  Hidden h;
+  for (int k = 0; k < 6; ++k) {
+    if (o.judged[k]) continue;
+    const Eigen::Matrix<double, 6, 1> v = o.directions.col(k);
+    if (v.head<3>().norm() > v.tail<3>().norm())
+      h.rotations.push_back(v.head<3>().normalized());
+    else
+      h.translations.push_back(v.tail<3>().normalized());
+  }
+  return h;
+}
+
+bool Mentions(const std::vector<std::string>& lines, const std::string& text) {
+  for (const std::string& line : lines)
+    if (line.find(text) != std::string::npos) return true;
+  return false;
+}
+
+TEST_F(TableTest, ReportsItsInPlanePositionAndSpinUnobservable) {
+  const LabelCheck c = Check(T_camera_table_);
+  ASSERT_TRUE(c.observability.analysed);
+  EXPECT_EQ(c.observability.observable, 3) << c.reason;
+  // Two translations within the top's plane and the spin about its normal (+z of the table).
+  const Hidden hidden = HiddenDirections(c.observability);
+  ASSERT_EQ(hidden.translations.size(), 2u) << c.reason;
+  ASSERT_EQ(hidden.rotations.size(), 1u) << c.reason;
+  for (const Eigen::Vector3d& t : hidden.translations) EXPECT_LT(std::abs(t.z()), 0.1) << c.reason;
+  EXPECT_GT(std::abs(hidden.rotations[0].z()), 0.95) << c.reason;
+  EXPECT_TRUE(Mentions(c.observability.unobservable, "translation along any direction normal to")) << c.reason;
+  EXPECT_TRUE(Mentions(c.observability.unobservable, "rotation about")) << c.reason;
+  EXPECT_EQ(c.verdict, Verdict::kAccept) << c.reason;
+  EXPECT_EQ(c.reason_code, VerdictReason::kAgreesWhereObservable) << c.reason;
+}
+
+TEST_F(TableTest, FlagsACentimetreAlongItsNormal) {
+  const LabelCheck c = Check(T_camera_table_ * Rigid3d::FromRvec({0, 0, 0}, {0, 0, 0.01}));
+  EXPECT_NE(c.verdict, Verdict::kAccept) << c.reason;
+  EXPECT_NEAR(c.observed.position_mm, 10.0, 1.5) << c.reason;
+}
+
+TEST_F(TableTest, ReportsACentimetreSlideInItsPlaneAsUnobservableNotAsAgreement) {
+  const LabelCheck c = Check(T_camera_table_ * Rigid3d::FromRvec({0, 0, 0}, {0.007, 0.007, 0}));
+  // Nothing the depth sees contradicts the label, and the record says what it could not see.
+  EXPECT_EQ(c.reason_code, VerdictReason::kAgreesWhereObservable) << c.reason;
+  EXPECT_NE(c.reason_code, VerdictReason::kAgrees);
+  EXPECT_NE(c.reason.find("unobservable: translation along any direction normal to"), std::string::npos) << c.reason;
+  EXPECT_LT(c.observed.position_mm, 2.0) << c.reason;
+}
+
+TEST(Observability, ABodyOfRevolutionHidesOnlyItsSpin) {
+  const TriangleMesh cone = Cone();
+  const SurfaceCropSource surface = SurfaceCropSource::FromMesh(cone, CropOptions{});
+  const CachedCropSource model(surface, CropCacheOptions{});
+  const Rigid3d truth = Rigid3d::FromRvec({1.9, 0.2, 0.3}, {0.02, 0.01, 0.7});
+  std::mt19937 rng(5);
+  const Frame frame = SplatFrame(cone, truth, rng);
+  const LabelCheck c = CheckLabelInFrame(frame.depth, Kinect(), frame.mask, 4, truth, model, {}, ValidateOptions{});
+  ASSERT_TRUE(c.observability.analysed) << c.reason;
+  EXPECT_EQ(c.observability.observable, 5) << c.reason;
+  const Hidden hidden = HiddenDirections(c.observability);
+  ASSERT_EQ(hidden.rotations.size(), 1u) << c.reason;
+  EXPECT_GT(std::abs(hidden.rotations[0].z()), 0.98) << c.reason;  // the axis of revolution
+  EXPECT_TRUE(Mentions(c.observability.unobservable, "rotation about")) << c.reason;
+  EXPECT_EQ(c.verdict, Verdict::kAccept) << c.reason;
+  // A spin about the axis changes nothing the depth sees: not judged; a 5 deg tilt is.
+  const LabelCheck spun = CheckLabelInFrame(frame.depth, Kinect(), frame.mask, 4,
+                                            truth * Rigid3d::FromRvec({0, 0, RadFromDeg(20)}, {0, 0, 0}), model, {}, ValidateOptions{});
+  EXPECT_EQ(spun.verdict, Verdict::kAccept) << spun.reason;
+  const LabelCheck tilted = CheckLabelInFrame(frame.depth, Kinect(), frame.mask, 4,
+                                              truth * Rigid3d::FromRvec({RadFromDeg(5), 0, 0}, {0, 0, 0}), model, {}, ValidateOptions{});
+  EXPECT_NE(tilted.verdict, Verdict::kAccept) << tilted.reason;
+}
+
+TEST(Observability, NoDirectionIsHiddenWhenEverySideConstrainsIt) {
+  // Unit check of the analysis: a cube corner (three faces) constrains all six directions by normals.
+  PointCloud points, normals;
+  for (int face = 0; face < 3; ++face)
+    for (int i = 0; i < 20; ++i)
+      for (int j = 0; j < 20; ++j) {
+        Eigen::Vector3d p = Eigen::Vector3d::Zero();
+        p[(face + 1) % 3] = 0.005 * i;
+        p[(face + 2) % 3] = 0.005 * j;
+        points.push_back(p);
+        normals.push_back(Eigen::Vector3d::Unit(face));
+      }
+  ModelCrop crop;
+  crop.points_model = points;
+  crop.normals_model = normals;
+  const PointGrid scene(points);
+  struct Fixed : CropSource {
+    ModelCrop crop;
+    ModelCrop Crop(const Rigid3d&) const override { return crop; }
+    const PointCloud& surface_model() const override { return crop.points_model; }
+  } source;
+  source.crop = crop;
+  const Observability o = AnalyseObservability(source, Rigid3d(), scene, ObservabilityOptions{});
+  ASSERT_TRUE(o.analysed);
+  EXPECT_EQ(o.observable, 6);
+  EXPECT_TRUE(o.unobservable.empty());
+  EXPECT_GT(o.information.minCoeff(), 0.01);
+}
+
+}  // namespace
+}  // namespace mocap
