@@ -70,6 +70,7 @@ PointCloud SampleSurface(const TriangleMesh& mesh, double spacing_m) {
 
 void CropOptions::check() const {
   if (!(pixel_m > 0)) throw InputError("CropOptions", "pixel_m must be positive");
+  if (max_points < 100) throw InputError("CropOptions", "max_points must be >= 100");
 }
 
 SurfaceCropSource::SurfaceCropSource(PointCloud surface_model, const CropOptions& options)

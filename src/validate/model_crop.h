@@ -53,6 +53,9 @@ PointCloud SampleSurface(const TriangleMesh& mesh, double spacing_m);
 struct CropOptions {
   /// Size of a z-buffer pixel on the object, metres: one crop point per pixel (the crop's resolution).
   double pixel_m = 0.005;
+  /// The session check coarsens pixel_m (and the scene voxels) for an object whose largest bounding-box
+  /// face holds more than this many pixels, to about this many (a table top).
+  int max_points = 4000;
   void check() const;
 };
 

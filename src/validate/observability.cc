@@ -49,6 +49,7 @@ void ObservabilityOptions::check() const {
   if (!(support_distance_m > 0)) throw InputError("ObservabilityOptions", "support_distance_m must be positive");
   if (!(normal_radius_m > 0)) throw InputError("ObservabilityOptions", "normal_radius_m must be positive");
   if (refine_iterations < 0) throw InputError("ObservabilityOptions", "refine_iterations must be >= 0");
+  if (max_points < 100) throw InputError("ObservabilityOptions", "max_points must be >= 100");
 }
 
 namespace {
@@ -67,11 +68,14 @@ struct NormalEquations {
   double rmse_m = 0.0;  ///< of the point-to-plane residuals
 };
 
+/// Every k-th index of n, k keeping at most max_points.
+size_t Stride(size_t n, int max_points) { return std::max<size_t>(1, (n + static_cast<size_t>(max_points) - 1) / static_cast<size_t>(max_points)); }
+
 NormalEquations Build(const PointCloud& points, const PointCloud& normals, const Rigid3d& T_camera_object,
-                      const PointGrid& scene, double gate_m) {
+                      const PointGrid& scene, double gate_m, int max_points) {
   NormalEquations e;
   std::vector<std::pair<size_t, Eigen::Vector3d>> matches;  // crop index, scene point (camera frame)
-  for (size_t i = 0; i < points.size(); ++i) {
+  for (size_t i = 0; i < points.size(); i += Stride(points.size(), max_points)) {
     size_t index = 0;
     double distance_sq = 0;
     if (scene.Nearest(T_camera_object * points[i], gate_m, &index, &distance_sq))
@@ -141,28 +145,30 @@ Rigid3d Moved(const Rigid3d& T_camera_object, const Vector6d& step, const Eigen:
 }
 
 /// Share of `crop` points (at T) with a scene point within `gate_m`.
-double SupportedShare(const PointCloud& crop_model, const Rigid3d& T_camera_object, const PointGrid& scene, double gate_m) {
+double SupportedShare(const PointCloud& crop_model, const Rigid3d& T_camera_object, const PointGrid& scene, double gate_m,
+                      int max_points) {
   if (crop_model.empty()) return 0.0;
-  int supported = 0;
-  for (const Eigen::Vector3d& p : crop_model) {
+  int supported = 0, tried = 0;
+  for (size_t i = 0; i < crop_model.size(); i += Stride(crop_model.size(), max_points), ++tried) {
     size_t index = 0;
     double distance_sq = 0;
-    supported += scene.Nearest(T_camera_object * p, gate_m, &index, &distance_sq);
+    supported += scene.Nearest(T_camera_object * crop_model[i], gate_m, &index, &distance_sq);
   }
-  return static_cast<double>(supported) / static_cast<double>(crop_model.size());
+  return static_cast<double>(supported) / tried;
 }
 
 /// Probes every direction not judged by its information: both ways, the larger loss counts.
 void Probe(const CropSource& model, const Rigid3d& T_camera_object, const PointGrid& scene,
            const ObservabilityOptions& options, Observability* o) {
   const double base = SupportedShare(model.Crop(T_camera_object).points_model, T_camera_object, scene,
-                                     options.probe_support_m);
+                                     options.probe_support_m, options.max_points);
   for (int k = 0; k < 6; ++k) {
     if (o->judged[k]) continue;
     double loss = 0.0;
     for (const double sign : {1.0, -1.0}) {
       const Rigid3d moved = Moved(T_camera_object, sign * options.probe_m * o->directions.col(k), o->center_object, o->radius_m);
-      loss = std::max(loss, base - SupportedShare(model.Crop(moved).points_model, moved, scene, options.probe_support_m));
+      loss = std::max(loss, base - SupportedShare(model.Crop(moved).points_model, moved, scene, options.probe_support_m,
+                                                  options.max_points));
     }
     o->probe_loss[k] = loss;
     o->judged[k] = loss >= options.probe_min_loss;
@@ -181,7 +187,8 @@ Observability AnalyseObservability(const CropSource& model, const Rigid3d& T_cam
   const ModelCrop crop = model.Crop(T_camera_object);
   const PointCloud normals = NormalsOf(crop, T_camera_object, options.normal_radius_m);
   Observability out =
-      Analyse(Build(crop.points_model, normals, T_camera_object, scene_camera, options.support_distance_m), options);
+      Analyse(Build(crop.points_model, normals, T_camera_object, scene_camera, options.support_distance_m, options.max_points),
+              options);
   if (out.analysed) {
     Probe(model, T_camera_object, scene_camera, options, &out);
     Summarise(&out);
@@ -197,7 +204,7 @@ PlaneRefinement RefinePointToPlane(const ModelCrop& crop, const Rigid3d& T_camer
   out.T_camera_object = T_camera_object_init;
   for (int iteration = 0; iteration < options.refine_iterations; ++iteration) {
     const double gate_m = iteration == 0 ? std::max(first_gate_m, options.support_distance_m) : options.support_distance_m;
-    const NormalEquations e = Build(crop.points_model, normals, out.T_camera_object, scene_camera, gate_m);
+    const NormalEquations e = Build(crop.points_model, normals, out.T_camera_object, scene_camera, gate_m, options.max_points);
     out.observability = Analyse(e, options);
     out.rmse_m = e.rmse_m;
     if (!out.observability.analysed) return out;

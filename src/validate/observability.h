@@ -37,6 +37,9 @@ struct ObservabilityOptions {
   double support_distance_m = 0.01;
   /// Normals are estimated from the crop over this radius when the crop comes without them, metres.
   double normal_radius_m = 0.012;
+  /// The analysis, the probe and the refinement use every k-th crop point, k chosen to keep at most
+  /// this many (shares and a 6x6 system need no more; a table top's crop has tens of thousands).
+  int max_points = 3000;
   /// Gauss-Newton iterations of the point-to-plane refinement (RefinePointToPlane); 0: none.
   int refine_iterations = 10;
   void check() const;

@@ -120,7 +120,24 @@ std::optional<LabelCheck> InputProblem(const FrameInputs& in, const RecordMask& 
   return CheckFrameInput(in.depth_m, camera, *mask.mask, mask.value);
 }
 
+/// The settings for one object: a large object (a table top) gets coarser crops and scene voxels, so
+/// that its crops keep about CropOptions::max_points points (at 5 mm a table top's crop had tens of
+/// thousands, and its checks took ten times a bottle's).
+ValidateOptions OptionsFor(const Mesh& mesh, ValidateOptions o) {
+  Eigen::Vector3f lo = Eigen::Vector3f::Constant(1e30f), hi = Eigen::Vector3f::Constant(-1e30f);
+  for (const Eigen::Vector3f& p : mesh.positions_m) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  const Eigen::Vector3d size = (hi - lo).cast<double>().cwiseMax(0.0);
+  const double largest_face_m2 = std::max({size.x() * size.y(), size.y() * size.z(), size.x() * size.z()});
+  const double scale = std::max(1.0, std::sqrt(largest_face_m2 / (o.crop.max_points * o.crop.pixel_m * o.crop.pixel_m)));
+  o.crop.pixel_m *= scale;
+  o.scene_voxel_m *= scale;
+  o.crop_cache.normal_radius_m *= scale;
+  o.observability.normal_radius_m *= scale;
+  return o;
+}
+
 struct ObjectModel {
+  ValidateOptions options;  ///< the run's, at this object's resolution (OptionsFor)
   std::unique_ptr<CropSource> source;  ///< computes crops (z-buffer or renderer)
   std::unique_ptr<CachedCropSource> crops;  ///< each view's crop once, from `source`
   std::vector<ModelCrop> view_crops;  ///< for the view-sphere seed
@@ -136,13 +153,14 @@ std::map<int, ObjectModel> LoadModels(const std::vector<ValidationObject>& objec
       throw InputError(Str("labels.jsonl object ", r.object), "not among the objects given (pass the --objects the label run used)");
     const Mesh mesh = LoadMesh(it->mesh_path.string(), it->unit_scale_to_m);
     ObjectModel model;
+    model.options = OptionsFor(mesh, options.validate);
     if (options.crops == CropBackend::kRenderer)
-      model.source = std::make_unique<RenderedCropSource>(mesh, options.validate.crop, options.context);
+      model.source = std::make_unique<RenderedCropSource>(mesh, model.options.crop, options.context);
     else
-      model.source = std::make_unique<SurfaceCropSource>(SurfaceCropSource::FromMesh(ToTriangleMesh(mesh), options.validate.crop));
-    model.crops = std::make_unique<CachedCropSource>(*model.source, options.validate.crop_cache);
-    if (options.validate.check_seed == AcquisitionSeed::kViewSphere && !options.track)
-      model.view_crops = MakeViewSphereCrops(*model.crops, options.validate.acquisition);
+      model.source = std::make_unique<SurfaceCropSource>(SurfaceCropSource::FromMesh(ToTriangleMesh(mesh), model.options.crop));
+    model.crops = std::make_unique<CachedCropSource>(*model.source, model.options.crop_cache);
+    if (model.options.check_seed == AcquisitionSeed::kViewSphere && !options.track)
+      model.view_crops = MakeViewSphereCrops(*model.crops, model.options.acquisition);
     models.emplace(r.object, std::move(model));
   }
   return models;
@@ -197,7 +215,7 @@ void CheckFrame(const SessionReader& session, const LabelRunView& labels, const 
       r.check = *InputProblem(in, mask, camera);
     else
       r.check = CheckLabelInFrame(in.depth_m, camera, *mask.mask, mask.value, r.T_camera_object_label, *model.crops,
-                                  model.view_crops, options.validate);
+                                  model.view_crops, model.options);
     Score(in, options, r);
   }
 }
@@ -207,10 +225,10 @@ void CheckTrack(const SessionReader& session, const LabelRunView& labels, const 
                 const SessionCheckOptions& options, std::vector<RecordCheck>& records, std::vector<size_t> group) {
   std::sort(group.begin(), group.end(), [&](size_t a, size_t b) { return records[a].index < records[b].index; });
   const ObjectModel& model = models.at(records[group.front()].object);
-  ObjectTracker tracker(*model.crops, options.validate);
-  const bool seed_from_label = options.validate.check_seed == AcquisitionSeed::kLabel;
+  ObjectTracker tracker(*model.crops, model.options);
+  const bool seed_from_label = model.options.check_seed == AcquisitionSeed::kLabel;
   // Cross-checks at fixed frame indices: a shard starting at such a frame checks as the whole run does.
-  const int every = options.validate.tracking.reacquire_every;
+  const int every = model.options.tracking.reacquire_every;
   int64_t last_stamp_ns = 0;
   for (size_t i : group) {
     RecordCheck& r = records[i];
@@ -229,14 +247,22 @@ void CheckTrack(const SessionReader& session, const LabelRunView& labels, const 
       // Crops as this frame sees them; the label seeds the acquisitions (the first frame, after a loss,
       // the periodic cross-check), as in the per-frame mode.
       const VisibleInFrameCropSource visible(*model.crops, camera, in.depth_m, *mask.mask, mask.value,
-                                             options.validate.occluder_margin_m);
-      const CropSource& frame_model = options.validate.occluder_margin_m > 0 ? static_cast<const CropSource&>(visible)
+                                             model.options.occluder_margin_m);
+      const CropSource& frame_model = model.options.occluder_margin_m > 0 ? static_cast<const CropSource&>(visible)
                                                                                : *model.crops;
       const TrackStep step = tracker.Step(scene, camera_pose.ok() ? *camera_pose.pose : Rigid3d(), stamp_ns,
                                           seed_from_label ? &r.T_camera_object_label : nullptr, &frame_model,
                                           every > 0 && r.index % every == 0);
-      r.check = CheckLabelWithTrack(scene, r.T_camera_object_label, frame_model, step, options.validate);
+      r.check = CheckLabelWithTrack(scene, r.T_camera_object_label, frame_model, step, model.options);
       r.mode = std::string(ToString(step.mode));
+      // A tracking step is the fast path to an agreement; a disagreement is evidence only from a full
+      // acquisition (a track can settle a few millimetres off while a carried object moves), so it is
+      // checked again as the per-frame mode does.
+      if (step.mode == TrackMode::kTracking && r.check.verdict != Verdict::kAccept && seed_from_label) {
+        r.check = CheckLabelInFrame(in.depth_m, camera, *mask.mask, mask.value, r.T_camera_object_label, *model.crops,
+                                    model.view_crops, model.options);
+        r.mode = "recheck";
+      }
     }
     Score(in, options, r);
   }
