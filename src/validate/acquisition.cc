@@ -62,9 +62,6 @@ std::vector<int> RegisterCoarse(const PointGrid& scene_grid, const AcquisitionOp
     return RanksBefore(hyps[a].score.score, hyps[a].icp.inlier_rmse_m, hyps[b].score.score, hyps[b].icp.inlier_rmse_m,
                        top, options.score_tie);
   });
-  // The prior, when tied with the top, goes first (Hypothesis::is_prior).
-  const auto prior = std::find_if(order.begin(), order.end(), [&](int i) { return hyps[i].is_prior; });
-  if (prior != order.end() && hyps[*prior].score.score >= top - options.score_tie) std::rotate(order.begin(), prior, prior + 1);
   return order;
 }
 
@@ -97,8 +94,6 @@ void RefineBest(const PointGrid& scene_grid, const CropSource& model, const Acqu
     if (RanksBefore(refined[j].score, refined[j].icp.inlier_rmse_m, refined[win].score,
                     refined[win].icp.inlier_rmse_m, top, options.score_tie))
       win = j;
-  for (int j = 0; j < count; ++j)  // a tied prior wins (Hypothesis::is_prior)
-    if (result->hypotheses[order[j]].is_prior && refined[j].score >= top - options.score_tie) win = j;
   result->best = order[win];
   result->refine = refined[win].icp;
   result->refined_crop = std::move(refined[win].crop);
@@ -200,7 +195,7 @@ AcquisitionResult AcquireAround(const PointCloud& scene, const PointGrid& scene_
       result.hypotheses.push_back({PlaceAtMedian(starts[i].rotation_matrix(), result.crops[i], median), {}, {}, i});
   // The prior where it is, too: the median of a partly seen object (a table top cut by the image) is not
   // the median of its crop, and along directions the depth barely constrains ICP would not find the way back.
-  if (!result.crops[0].points_model.empty()) result.hypotheses.push_back({T_camera_model_prior, {}, {}, 0, true});
+  if (!result.crops[0].points_model.empty()) result.hypotheses.push_back({T_camera_model_prior, {}, {}, 0});
   RunHypotheses(scene_grid, model, options, alignment, &result);
   return result;
 }

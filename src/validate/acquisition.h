@@ -70,9 +70,6 @@ struct Hypothesis {
   IcpResult icp;         ///< the coarse-stage ICP (on the crop subset)
   AlignmentScore score;  ///< a(M, S) of the crop subset at icp's pose (the coarse ranking)
   int crop_index = 0;
-  /// The prior pose itself (AcquireAround): among hypotheses the scores cannot tell apart it wins, so
-  /// a slide along a direction the depth does not constrain is not reported as the estimate.
-  bool is_prior = false;
 };
 
 struct AcquisitionResult {
