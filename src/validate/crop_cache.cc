@@ -11,8 +11,8 @@ namespace mocap {
 namespace {
 
 /// The cube-map cell of a unit direction: face (major axis and sign), then the face's (u, v) in
-/// [-1, 1] split into `n` x `n` cells. Cells span 1.3-2.3x the angle of their centre's neighbours'
-/// spacing at most; the step is chosen for the largest.
+/// [-1, 1] split into `n` x `n` cells; `center` gets the cell's central direction. Cells are widest in
+/// angle at a face's centre, so `n` is chosen from the step there.
 int64_t DirectionCell(const Eigen::Vector3d& d, int n, Eigen::Vector3d* center) {
   int axis = 0;
   d.cwiseAbs().maxCoeff(&axis);
