@@ -19,13 +19,6 @@ bool SamePath(const fs::path& a, const fs::path& b) {
   return fs::equivalent(a, b, error) && !error;
 }
 
-/// The file the label run recorded for `role` in its run.json (empty when none).
-fs::path RecordedInput(const pipeline::RunProvenance& run, const std::string& role) {
-  for (const pipeline::InputRecord& input : run.inputs)
-    if (input.role == role) return input.path;
-  return {};
-}
-
 /// Adds `library`'s objects to `merged`: one id per name across sessions, or an InputError naming both
 /// files (`source`: object name -> the file it came from).
 void MergeObjects(const pipeline::ObjectLibrary& library, pipeline::ObjectLibrary& merged,
@@ -132,7 +125,7 @@ void AddInput(Dataset& dataset, const ExportInput& input, std::map<std::string, 
   const pipeline::LabelRun labels = pipeline::LabelRun::Read(labels_dir);
   CheckLabelRunOfSession(labels, session_dir);
   const pipeline::RunProvenance run = pipeline::ReadRunJson(labels_dir);
-  const fs::path objects_file = RecordedInput(run, "objects"), rig_file = RecordedInput(run, "rig");
+  const fs::path objects_file = pipeline::RecordedInput(run, "objects"), rig_file = pipeline::RecordedInput(run, "rig");
   if (objects_file.empty())
     throw InputError((labels_dir / "run.json").string(), "names no object library (role 'objects')");
   MergeObjects(pipeline::ReadObjectLibrary(objects_file), dataset.objects, object_source);

@@ -1,6 +1,5 @@
 #include "calibrate/robust_stats.h"
 
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 
@@ -11,15 +10,6 @@ double Median(std::vector<double> values) {
   const auto mid = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
   std::nth_element(values.begin(), mid, values.end());
   return *mid;
-}
-
-PrincipalAxes PrincipalAxesOf(std::span<const Eigen::Vector3d> points) {
-  PrincipalAxes out;
-  for (const Eigen::Vector3d& p : points) out.centroid += p / static_cast<double>(points.size());
-  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
-  for (const Eigen::Vector3d& p : points) scatter += (p - out.centroid) * (p - out.centroid).transpose();
-  out.axes = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(scatter).eigenvectors();  // ascending eigenvalues
-  return out;
 }
 
 double ArWidening(double rho) { return std::sqrt((1 + rho) / (1 - rho)); }

@@ -1,9 +1,11 @@
 #pragma once
-// Small robust statistics the calibration procedures share, and the principal axes of a point set.
+// Small robust statistics the calibration procedures share (the principal axes: core/principal_axes.h).
 #include <span>
 #include <vector>
 
 #include <Eigen/Core>
+
+#include "core/principal_axes.h"
 
 namespace mocap {
 
@@ -14,14 +16,6 @@ double Median(std::vector<double> values);
 /// autocorrelation (returned in `rho`, clamped to [0, 0.95]) with the AR(1) factor ArWidening(rho):
 /// neighbouring frames see the same view and do not count as independent.
 double MeanInterval95(std::span<const double> values, double& rho);
-
-/// Centroid and principal axes of a point set: the columns of `axes` by ascending spread, so col(0) is
-/// the normal of the least-squares plane through `centroid` and col(2) the direction of largest spread.
-struct PrincipalAxes {
-  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
-  Eigen::Matrix3d axes = Eigen::Matrix3d::Identity();
-};
-PrincipalAxes PrincipalAxesOf(std::span<const Eigen::Vector3d> points);
 
 /// sqrt((1 + rho) / (1 - rho)): how much an AR(1) series with lag-1 autocorrelation rho widens the
 /// standard error of its mean.

@@ -192,4 +192,10 @@ RunProvenance ReadRunJson(const fs::path& run_dir) {
   return ProvenanceFromJson(parsed, file.string());
 }
 
+fs::path RecordedInput(const RunProvenance& run, const std::string& role) {
+  for (const InputRecord& input : run.inputs)
+    if (input.role == role) return input.path;
+  return {};
+}
+
 }  // namespace mocap::pipeline

@@ -72,6 +72,8 @@ RunProvenance ProvenanceFromJson(const nlohmann::json& json, const std::string& 
 void WriteRunJson(const std::filesystem::path& run_dir, const RunProvenance& run);
 /// Reads run_dir/run.json; InputError "<dir>/run.json: ..." when it is missing or malformed.
 RunProvenance ReadRunJson(const std::filesystem::path& run_dir);
+/// The file `run` recorded for `role` ("rig", "objects"; empty when none).
+std::filesystem::path RecordedInput(const RunProvenance& run, const std::string& role);
 
 struct InputChange {
   std::string role, path;

@@ -1,10 +1,10 @@
 #include "validate/crop_cache.h"
 
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 
 #include "core/check.h"
+#include "core/principal_axes.h"
 #include "validate/point_grid.h"
 
 namespace mocap {
@@ -41,6 +41,7 @@ PointCloud EstimateNormals(const PointCloud& points, double radius_m, const Eige
   const PointGrid grid(points);
   PointCloud normals(points.size());
   std::vector<std::pair<size_t, float>> near;
+  std::vector<Eigen::Vector3d> neighbours;
   for (size_t i = 0; i < points.size(); ++i) {
     const Eigen::Vector3d to_view = (toward_model - points[i]).normalized();
     grid.Radius(points[i], radius_m, &near);
@@ -48,16 +49,9 @@ PointCloud EstimateNormals(const PointCloud& points, double radius_m, const Eige
       normals[i] = to_view;
       continue;
     }
-    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-    for (const auto& [j, d2] : near) mean += grid.point(j);
-    mean /= static_cast<double>(near.size());
-    Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
-    for (const auto& [j, d2] : near) {
-      const Eigen::Vector3d q = grid.point(j) - mean;
-      cov += q * q.transpose();
-    }
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
-    Eigen::Vector3d n = eig.eigenvectors().col(0);  // eigenvalues ascending: least spread
+    neighbours.clear();
+    for (const auto& [j, d2] : near) neighbours.push_back(grid.point(j));
+    const Eigen::Vector3d n = PrincipalAxesOf(neighbours).axes.col(0);  // least spread: the normal
     normals[i] = n.dot(to_view) < 0 ? Eigen::Vector3d(-n) : n;
   }
   return normals;
