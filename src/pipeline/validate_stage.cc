@@ -7,7 +7,9 @@
 #include "pipeline/label_run.h"
 #include "pipeline/label_stage.h"
 #include "pipeline/object_library.h"
+#include "pipeline/provenance.h"
 #include "pipeline/publish.h"
+#include "pipeline/rig.h"
 #include "pipeline/validation_run.h"
 #include "session/reader.h"
 
@@ -43,6 +45,12 @@ SessionValidation RunValidate(const ValidateRunRequest& request) {
   options.frame_end = request.shard.end;
   if (request.progress) options.progress = request.progress;
   for (int id : SkippedObjectIds(request, library)) options.skip_objects.push_back(id);
+  // A depth-to-colour transform the label run's rig calibrated replaces the session's, as for the labels.
+  const fs::path rig_file = fs::exists(request.labels_dir / "run.json")
+                                ? RecordedInput(ReadRunJson(request.labels_dir), "rig") : fs::path();
+  if (fs::is_regular_file(rig_file))
+    for (const LabelRigCamera& camera : LabelRigOf(ReadRig(rig_file)).cameras)
+      if (camera.T_color_depth) options.T_color_depth.emplace(camera.camera, *camera.T_color_depth);
   const RunRecord record{request.command, {{"objects", objects_file, false, {}}}, request.shard.ToJson(),
                          ObjectsInSession(library, session.manifest())};
   return ValidateIntoRun(session, ValidationObjectsOf(library), LabelRunViewOf(labels, request.shard.begin, request.shard.end),

@@ -66,7 +66,7 @@ nlohmann::json ToJson(const RecordCheck& r) {
       j["unobservable"] = c.observability.unobservable;
       j["observed_position_error_mm"] = c.observed.position_mm;
       j["observed_rotation_error_deg"] = c.observed.rotation_deg;
-      j["judged_where_observable"] = c.judged_where_observable;
+      j["judged_where_observable"] = c.judged_where_observable();
     }
   }
   j["label_score"] = c.label_score;
@@ -101,7 +101,6 @@ RecordCheck RecordCheckFromJson(const nlohmann::json& j, const std::string& wher
       c.observability.observable = static_cast<int>(f.Integer("observable_directions"));
       c.observability.unobservable = f.Strings("unobservable");
       c.observed = {f.Number("observed_position_error_mm"), f.Number("observed_rotation_error_deg")};
-      c.judged_where_observable = f.Bool("judged_where_observable");
     }
   }
   c.label_score = f.Number("label_score");

@@ -23,7 +23,6 @@ void ScoreEstimate(const Rigid3d& label, const ValidateOptions& options, LabelCh
                    check->errors.rotation_angle_deg < options.verdict.success_rotation_deg;
   check->segicp_reliable = check->segicp_score >= options.acquisition.epsilon;
   check->observed = ObservedPart(check->observability, check->T_camera_object_segicp, label);
-  check->judged_where_observable = check->observability.analysed && check->observability.observable < 6;
 }
 
 
@@ -109,7 +108,7 @@ void DecideVerdict(const VerdictOptions& o, LabelCheck* c) {
     return;
   }
   // With unobservable directions only the observable part of the difference is evidence.
-  const bool partly = c->judged_where_observable;
+  const bool partly = c->judged_where_observable();
   const double position_mm = partly ? c->observed.position_mm : c->errors.position_mm;
   const double position_m = position_mm * 1e-3, angle = partly ? c->observed.rotation_deg : c->errors.rotation_angle_deg;
   std::string differs = Str("SegICP differs by ", Fixed(position_mm, 1), " mm, ", Fixed(angle, 1), " deg",
@@ -177,6 +176,7 @@ void ApplySymmetry(const Rigid3d& T_camera_object_label, const SymmetryAxis& sym
     ob.directions.col(k).head<3>() = R * ob.directions.col(k).head<3>().eval();
     ob.directions.col(k).tail<3>() = R * ob.directions.col(k).tail<3>().eval();
   }
+  if (ob.analysed) SummariseObservability(&ob);  // the sentences name directions in the turned frame
   ScoreEstimate(T_camera_object_label, options, check);
   DecideVerdict(options.verdict, check);
 }

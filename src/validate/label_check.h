@@ -62,7 +62,8 @@ struct LabelCheck {
   /// direction is unobservable.
   Observability observability;
   ObservedDifference observed;
-  bool judged_where_observable = false;  ///< the verdict judged `observed` (some direction unobservable)
+  /// The verdict judged `observed`: the analysis ran and found some direction unobservable.
+  bool judged_where_observable() const { return observability.analysed && observability.observable < 6; }
 };
 
 /// Checks one label against the object's scene cloud (camera frame, from the mask). Runs the acquisition

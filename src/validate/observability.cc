@@ -118,23 +118,6 @@ Observability Analyse(const NormalEquations& e, const ObservabilityOptions& opti
   return out;
 }
 
-/// `observable` and the words for the directions not judged.
-void Summarise(Observability* o) {
-  o->observable = 0;
-  o->unobservable.clear();
-  std::vector<Eigen::Vector3d> rotations, translations;
-  for (int k = 0; k < 6; ++k) {
-    if (o->judged[k]) {
-      ++o->observable;
-      continue;
-    }
-    const Vector6d v = o->directions.col(k);
-    const bool rotation = v.head<3>().norm() > v.tail<3>().norm();  // mostly a turn, or mostly a shift
-    (rotation ? rotations : translations).push_back(rotation ? v.head<3>().normalized() : v.tail<3>().normalized());
-  }
-  Describe(translations, "translation", "along", &o->unobservable);
-  Describe(rotations, "rotation", "about", &o->unobservable);
-}
 
 /// The pose moved by `step` ([L w; v], object frame about `center`).
 Rigid3d Moved(const Rigid3d& T_camera_object, const Vector6d& step, const Eigen::Vector3d& center, double radius_m) {
@@ -191,7 +174,7 @@ Observability AnalyseObservability(const CropSource& model, const Rigid3d& T_cam
               options);
   if (out.analysed) {
     Probe(model, T_camera_object, scene_camera, options, &out);
-    Summarise(&out);
+    SummariseObservability(&out);
   }
   return out;
 }
@@ -231,6 +214,23 @@ ObservedDifference ObservedPart(const Observability& o, const Rigid3d& estimate,
   for (int k = 0; k < 6; ++k)
     if (!o.analysed || o.judged[k]) observed += o.directions.col(k) * o.directions.col(k).dot(d);
   return {1e3 * observed.tail<3>().norm(), DegFromRad(observed.head<3>().norm() / o.radius_m)};
+}
+
+void SummariseObservability(Observability* o) {
+  o->observable = 0;
+  o->unobservable.clear();
+  std::vector<Eigen::Vector3d> rotations, translations;
+  for (int k = 0; k < 6; ++k) {
+    if (o->judged[k]) {
+      ++o->observable;
+      continue;
+    }
+    const Vector6d v = o->directions.col(k);
+    const bool rotation = v.head<3>().norm() > v.tail<3>().norm();  // mostly a turn, or mostly a shift
+    (rotation ? rotations : translations).push_back(rotation ? v.head<3>().normalized() : v.tail<3>().normalized());
+  }
+  Describe(translations, "translation", "along", &o->unobservable);
+  Describe(rotations, "rotation", "about", &o->unobservable);
 }
 
 }  // namespace mocap

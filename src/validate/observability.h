@@ -85,6 +85,10 @@ PlaneRefinement RefinePointToPlane(const ModelCrop& crop, const Rigid3d& T_camer
                                    const PointGrid& scene_camera, const ObservabilityOptions& options,
                                    double first_gate_m = 0.0);
 
+/// Sets `observable` and the `unobservable` sentences from `judged` and `directions` (after the
+/// directions were expressed in another object frame, as ApplySymmetry does).
+void SummariseObservability(Observability* o);
+
 /// The difference of `label` from `estimate` (both T_camera_object) restricted to the observable
 /// directions: translation of the analysis centre (mm) and rotation (deg).
 struct ObservedDifference {

@@ -6,10 +6,12 @@
 #include <exception>
 #include <memory>
 #include <mutex>
+#include <tuple>
 #include <omp.h>
 #include <opencv2/imgcodecs.hpp>
 
 #include "core/check.h"
+#include "core/depth_registration.h"
 #include "render/mesh.h"
 #include "session/records.h"
 #include "validate/frame_visibility.h"
@@ -61,11 +63,17 @@ FrameInputs LoadFrame(const SessionReader& session, const LabelRunView& labels, 
   const CameraStreamInfo* info = session.manifest().FindCamera(camera);
   if (!entry.depth_present) {
     in.depth_problem = "frame has no depth image";
-  } else if (!info->depth_registered_to_color) {
-    in.depth_problem = "depth is not registered to the colour camera the labels are in";
   } else {
     try {
       in.depth_m = session.LoadDepth(camera, index);
+      // A sensor whose depth camera sits beside its colour camera (Kinect v2): the labels are in the
+      // colour image, so the depth is warped there first, as the exporters do.
+      if (!info->depth_registered_to_color) {
+        const auto calibrated = options.T_color_depth.find(camera);
+        in.depth_m = RegisterDepthToColor(in.depth_m, info->depth_camera, info->color_camera,
+                                          calibrated != options.T_color_depth.end() ? calibrated->second
+                                                                                    : info->T_color_depth);
+      }
     } catch (const InputError& e) {
       in.depth_problem = e.what();
       in.depth_code = VerdictReason::kUnreadableInput;
@@ -220,6 +228,16 @@ void CheckFrame(const SessionReader& session, const LabelRunView& labels, const 
   }
 }
 
+/// An accepted check whose difference lies well inside the accept bounds (tracking.confirm_fraction).
+bool ClearAgreement(const LabelCheck& c, const ValidateOptions& options) {
+  if (c.verdict != Verdict::kAccept) return false;
+  const bool partly = c.judged_where_observable();
+  const double position_m = 1e-3 * (partly ? c.observed.position_mm : c.errors.position_mm);
+  const double angle_deg = partly ? c.observed.rotation_deg : c.errors.rotation_angle_deg;
+  const double fraction = options.tracking.confirm_fraction;
+  return position_m <= fraction * options.verdict.accept_position_m && angle_deg <= fraction * options.verdict.accept_rotation_deg;
+}
+
 /// One instance's records in frame order through its own tracker.
 void CheckTrack(const SessionReader& session, const LabelRunView& labels, const std::map<int, ObjectModel>& models,
                 const SessionCheckOptions& options, std::vector<RecordCheck>& records, std::vector<size_t> group) {
@@ -255,10 +273,11 @@ void CheckTrack(const SessionReader& session, const LabelRunView& labels, const 
                                           every > 0 && r.index % every == 0);
       r.check = CheckLabelWithTrack(scene, r.T_camera_object_label, frame_model, step, model.options);
       r.mode = std::string(ToString(step.mode));
-      // A tracking step is the fast path to an agreement; a disagreement is evidence only from a full
-      // acquisition (a track can settle a few millimetres off while a carried object moves), so it is
-      // checked again as the per-frame mode does.
-      if (step.mode == TrackMode::kTracking && r.check.verdict != Verdict::kAccept && seed_from_label) {
+      // A tracking step is the fast path to a clear agreement; a disagreement or a close call is evidence
+      // only from a full acquisition (a track can settle a few millimetres off while a carried object
+      // moves, or keep a few degrees of its start about a weakly constrained axis), so it is checked
+      // again as the per-frame mode does.
+      if (step.mode == TrackMode::kTracking && seed_from_label && !ClearAgreement(r.check, model.options)) {
         r.check = CheckLabelInFrame(in.depth_m, camera, *mask.mask, mask.value, r.T_camera_object_label, *model.crops,
                                     model.view_crops, model.options);
         r.mode = "recheck";
@@ -304,7 +323,13 @@ SessionValidation CheckSession(const SessionReader& session, const std::vector<V
     const std::map<int, ObjectModel> models = LoadModels(objects, records, options);
     Progress progress(options.progress, "validate", static_cast<int64_t>(records.size()), "records");
     if (options.track) {
-      const auto groups = GroupBy(records, [](const RecordCheck& r) { return std::make_pair(r.camera, r.instance); });
+      // One tracker per instance and stretch between cross-checks: a tracker started at a cross-check
+      // frame checks as the continued one does (see CheckTrack), and the stretches keep every
+      // core busy where one instance's track would outlast the others.
+      const int every = options.validate.tracking.reacquire_every;
+      const auto groups = GroupBy(records, [every](const RecordCheck& r) {
+        return std::make_tuple(r.camera, r.instance, every > 0 ? r.index / every : int64_t{0});
+      });
       ParallelFor(static_cast<int>(groups.size()), options.threads, [&](int g) {
         CheckTrack(session, labels, models, options, records, groups[g]);
         progress.Advance(static_cast<int64_t>(groups[g].size()));

@@ -64,6 +64,9 @@ struct SessionCheckOptions {
   int64_t frame_begin = 0, frame_end = -1;
   /// Object ids whose records are left out like the skipped frames' (objects the check cannot verify).
   std::vector<int> skip_objects;
+  /// Per camera, the depth-to-colour transform that replaces the session's (the label run's rig, from
+  /// `calibrate depth-to-color`), for a camera whose depth is not registered to its colour (Kinect v2).
+  std::map<std::string, Rigid3d> T_color_depth;
   ValidateOptions validate;
   RenderContextOptions context;  ///< for CropBackend::kRenderer
   ProgressSink* progress = nullptr;  ///< records checked / total (core/progress.h); not owned, may be null

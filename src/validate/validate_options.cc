@@ -8,6 +8,7 @@ void TrackingOptions::check() const {
   if (!(theta > 0 && theta <= 1)) throw InputError("TrackingOptions", "theta must lie in (0, 1]");
   if (!(box_margin_m >= 0)) throw InputError("TrackingOptions", "box_margin_m must be >= 0");
   if (reacquire_every < 0) throw InputError("TrackingOptions", "reacquire_every must be >= 0");
+  if (!(confirm_fraction >= 0 && confirm_fraction <= 1)) throw InputError("TrackingOptions", "confirm_fraction must lie in [0, 1]");
   if (!(initial_gate_m > 0)) throw InputError("TrackingOptions", "initial_gate_m must be positive");
   if (!(max_gap_s > 0)) throw InputError("TrackingOptions", "max_gap_s must be positive");
   if (!(max_prior_distance_m > 0 && max_prior_angle_deg > 0))

@@ -32,6 +32,11 @@ struct TrackingOptions {
   /// tracked and compared; beyond them its acquisition finds where the object is.
   double max_prior_distance_m = 0.03;
   double max_prior_angle_deg = 15.0;
+  /// A tracking step's agreement stands only when the label's difference lies within this fraction of
+  /// the accept bounds; a closer call, like a disagreement, is checked again by a full acquisition. A
+  /// track carries its start's estimate along directions the surface barely constrains (a bottle's
+  /// spin), so near the bound a tracked estimate is weaker evidence than an acquisition.
+  double confirm_fraction = 0.5;
   /// The tracking step is point-to-plane from the prediction in the observable directions
   /// (RefinePointToPlane, observability.refine_iterations); its first correspondence gate, metres.
   double initial_gate_m = 0.02;
