@@ -27,7 +27,12 @@ ModelCrop VisibleInFrameCropSource::Crop(const Rigid3d& T_camera_model) const {
     const int u = static_cast<int>(std::lround(pixel->x())), v = static_cast<int>(std::lround(pixel->y()));
     if (!depth_m_.contains(u, v)) continue;  // outside the image: the frame cannot see it
     const float measured_m = depth_m_.at(u, v);
-    const bool hidden = mask_.at(u, v) != label_id_ && measured_m > 0 && measured_m < p_camera.z() - margin_m_;
+    const uint16_t owner = mask_.at(u, v);
+    // A labelled pixel without depth (nearer than the sensor's range, dark, shiny): nothing there can
+    // confirm or deny the point, which another object there may well hide. A depthless background pixel
+    // still counts: a point moved onto it has left the object's outline.
+    if (owner != 0 && !(measured_m > 0)) continue;
+    const bool hidden = owner != label_id_ && measured_m > 0 && measured_m < p_camera.z() - margin_m_;
     if (hidden) continue;  // something else in front
     visible.push_back(p_model);
     if (has_normals) normals.push_back(crop.normals_model[i]);

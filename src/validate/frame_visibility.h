@@ -1,7 +1,9 @@
 #pragma once
 // Model crops as a real frame sees them: the crop of the wrapped source minus the points that something
 // else in front hides (a pixel outside the object's mask whose measured depth is nearer than the point by
-// more than a margin) or that fall outside the image. Without this, an object half hidden behind another scores about half, whatever its pose: the
+// more than a margin), that fall on a labelled pixel without measured depth (this object's or an
+// occluder's surface nearer than the sensor's range, dark or shiny: no depth to compare) or that fall
+// outside the image. Depthless background pixels keep their points: they carry the outline. Without this, an object half hidden behind another scores about half, whatever its pose: the
 // scene cloud holds only its visible part, and a(M, S) counts every crop point.
 #include "core/camera.h"
 #include "core/image.h"
