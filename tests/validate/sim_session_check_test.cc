@@ -137,6 +137,14 @@ TEST_F(SimSessionCheckTest, CorrectLabelsMeetTheAccuracyTargetsAndMountErrorsAre
       if (error_m < kWrongPositionM && error_deg < kWrongRotationDeg) continue;
       ++wrong;
       wrong_flagged += r.check.verdict != Verdict::kAccept;
+      if (r.check.verdict == Verdict::kAccept)
+        std::printf("  wrong but accepted: frame %lld %s (%s), %.1f mm %.1f deg off; estimate differs %.1f mm %.1f "
+                    "deg, %.1f mm %.1f deg where observable (%d directions); estimate vs correct label %.1f mm %.1f deg\n",
+                    static_cast<long long>(r.index), r.name.c_str(), r.mode.c_str(), 1e3 * error_m, error_deg,
+                    r.check.errors.position_mm, r.check.errors.rotation_angle_deg, r.check.observed.position_mm,
+                    r.check.observed.rotation_deg, r.check.observability.observable,
+                    ComputePoseErrors(r.check.T_camera_object_segicp, correct_labels.at({r.index, r.instance})).position_mm,
+                    ComputePoseErrors(r.check.T_camera_object_segicp, correct_labels.at({r.index, r.instance})).rotation_angle_deg);
     }
     std::printf("%s mount error: %lld checked, flagged %.3f; %d wrong modulo symmetry, %d of them flagged\n", name,
                 static_cast<long long>(all.checked), all.flagged, wrong, wrong_flagged);
