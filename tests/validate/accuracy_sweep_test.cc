@@ -12,6 +12,7 @@
 #include <fstream>
 #include <map>
 
+#include "calibrate/calibration_check.h"
 #include "cli/scenario_yaml.h"
 #include "pipeline/demo.h"
 #include "pipeline/record_stage.h"
@@ -111,6 +112,30 @@ class AccuracySweep : public ::testing::TestWithParam<std::string> {
   std::vector<ValidationObject> objects_;
 };
 
+/// What `calibrate check` says of a validation: the session-level test of the same records (one camera
+/// mount, object mount or latency error shared by many labels), "nothing" when no item looks wrong.
+std::string CalibrationCheckSays(const SessionValidation& validation, const std::vector<ValidationObject>& objects) {
+  std::vector<CheckRecord> records;
+  for (const RecordCheck& r : validation.records) {
+    if (!r.check.estimated || !r.check.segicp_reliable) continue;
+    records.push_back({r.camera, r.name, r.instance, r.stamp_ns, r.T_camera_object_label, r.check.T_camera_object_segicp});
+    for (const ValidationObject& o : objects)
+      if (o.id == r.object && o.symmetry && o.symmetry->step_deg == 0) records.back().spin_axis_mesh = o.symmetry->axis_object;
+  }
+  const CalibrationCheckResult result = CheckCalibration(records);
+  std::string says;
+  for (const CheckFinding& f : result.findings) {
+    char text[160];
+    if (f.kind == CheckItemKind::kLatency)
+      std::snprintf(text, sizeof text, "latency %+.1f ms", f.latency_error_ms);
+    else
+      std::snprintf(text, sizeof text, "%s %s %.1f mm %.1f deg", std::string(ToString(f.kind)).c_str(), f.name.c_str(),
+                    f.size_mm, f.size_deg);
+    says += (says.empty() ? "" : "; ") + std::string(text);
+  }
+  return says.empty() ? "nothing" : says;
+}
+
 std::string Row(const std::string& scenario, const std::string& object, const ObjectFigures& f) {
   std::string row = "| " + scenario + " | " + object + " | " + std::to_string(f.accepted.n) + " | " +
                     std::to_string(f.bad_input) + " | " + f.accepted.Text() + " | " + f.success.Text();
@@ -127,7 +152,9 @@ TEST_P(AccuracySweep, CorrectLabelsAcceptedAndWrongLabelsFlagged) {
   std::map<std::string, ObjectFigures> figures;  // by object name; "all" pools them
   const fs::path correct_labels = Label("correct", {});
   const auto correct = LabelsByRecord(correct_labels);
-  for (const RecordCheck& r : Check(correct_labels).records) {
+  const SessionValidation correct_check = Check(correct_labels);
+  std::map<std::string, std::string> check_says = {{"correct labels", CalibrationCheckSays(correct_check, objects_)}};
+  for (const RecordCheck& r : correct_check.records) {
     for (const std::string& key : {r.name, std::string("all")}) {
       ObjectFigures& f = figures[key];
       if (IsBadInput(r.check.reason_code)) {
@@ -152,7 +179,10 @@ TEST_P(AccuracySweep, CorrectLabelsAcceptedAndWrongLabelsFlagged) {
   wrong_labels["latency 50 ms"] = Label("latency", late);
 
   for (const WrongKind& kind : kWrongKinds) {
-    for (const RecordCheck& r : Check(wrong_labels.at(kind.name)).records) {
+    const SessionValidation checked = Check(wrong_labels.at(kind.name));
+    if (kind.name == "camera mount 5 mm" || kind.name == "latency 50 ms")
+      check_says[kind.name] = CalibrationCheckSays(checked, objects_);
+    for (const RecordCheck& r : checked.records) {
       const auto it = correct.find({r.index, r.instance});
       if (IsBadInput(r.check.reason_code) || it == correct.end()) continue;
       const Difference d = DifferenceOf(r, it->second);
@@ -173,6 +203,10 @@ TEST_P(AccuracySweep, CorrectLabelsAcceptedAndWrongLabelsFlagged) {
     const std::string row = Row(GetParam(), object, f);
     std::printf("%s\n", row.c_str());
     md << row << '\n';
+  }
+  for (const auto& [labels, says] : check_says) {
+    std::printf("calibrate check, %s: %s\n", labels.c_str(), says.c_str());
+    md << "calibrate check, " << labels << ": " << says << '\n';
   }
   ObjectFigures& all = figures["all"];
   EXPECT_GE(all.accepted.n, 100) << "records checked with correct labels";
