@@ -96,7 +96,12 @@ double RotationAxisDistanceDeg(const Rigid3d& a, const Rigid3d& b) {
   const Eigen::Vector3d ra = a.rvec();
   const Eigen::Vector3d rb = b.rvec();
   if (ra.norm() < 1e-9 || rb.norm() < 1e-9) return 0.0;
-  const double c = std::clamp(ra.normalized().dot(rb.normalized()), -1.0, 1.0);
+  // (n, theta) and (-n, 2 pi - theta) are the same rotation, and near half a turn the rotation vector's
+  // axis flips with the slightest change: b's axis is taken in whichever form lies nearer a's vector
+  // (two poses half a turn from the camera, 0.4 deg apart, otherwise differ by a 180 deg axis).
+  const Eigen::Vector3d rb_other = -(2.0 * std::numbers::pi - rb.norm()) * rb.normalized();
+  const Eigen::Vector3d nb = (ra - rb_other).norm() < (ra - rb).norm() ? Eigen::Vector3d(-rb.normalized()) : rb.normalized();
+  const double c = std::clamp(ra.normalized().dot(nb), -1.0, 1.0);
   return DegFromRad(std::acos(c));
 }
 

@@ -95,6 +95,19 @@ TEST(Rigid3, Distances) {
   EXPECT_NEAR(RotationAxisDistanceDeg(b, c), 90.0, 1e-9);
 }
 
+TEST(Rigid3, RotationAxisDistanceNearHalfATurn) {
+  // 179.9 deg about +z and 179.7 deg about -z (= 180.3 deg about +z) are 0.4 deg apart: same axis.
+  const Rigid3d a = Rigid3d::FromRvec({0, 0, RadFromDeg(179.9)}, {0, 0, 0});
+  const Rigid3d b = Rigid3d::FromRvec({0, 0, -RadFromDeg(179.7)}, {0, 0, 0});
+  EXPECT_NEAR(RotationDistanceDeg(a, b), 0.4, 1e-6);
+  EXPECT_NEAR(RotationAxisDistanceDeg(a, b), 0.0, 1e-6);
+  EXPECT_NEAR(RotationAxisDistanceDeg(b, a), 0.0, 1e-6);
+  // Far from half a turn, opposite axes stay opposite: 10 deg about +z vs 10 deg about -z.
+  const Rigid3d c = Rigid3d::FromRvec({0, 0, RadFromDeg(10)}, {0, 0, 0});
+  const Rigid3d d = Rigid3d::FromRvec({0, 0, -RadFromDeg(10)}, {0, 0, 0});
+  EXPECT_NEAR(RotationAxisDistanceDeg(c, d), 180.0, 1e-6);
+}
+
 TEST(Rigid3, AverageIgnoresQuaternionSign) {
   const Rigid3d a = Rigid3d::FromRvec({0, 0, RadFromDeg(10)}, {0, 0, 0});
   const Rigid3d b = Rigid3d::FromRvec({0, 0, RadFromDeg(30)}, {2, 0, 0});
