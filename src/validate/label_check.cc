@@ -97,6 +97,11 @@ PoseErrors ComputePoseErrors(const Rigid3d& estimate, const Rigid3d& reference) 
           RotationDistanceDeg(estimate, reference)};
 }
 
+ObservedDifference JudgedDifference(const LabelCheck& c) {
+  if (c.judged_where_observable()) return c.observed;
+  return {c.errors.position_mm, c.errors.rotation_angle_deg};
+}
+
 void DecideVerdict(const VerdictOptions& o, LabelCheck* c) {
   const std::string label_score = Str("label score ", Fixed(c->label_score, 2));
   if (!c->segicp_reliable) {
@@ -109,8 +114,9 @@ void DecideVerdict(const VerdictOptions& o, LabelCheck* c) {
   }
   // With unobservable directions only the observable part of the difference is evidence.
   const bool partly = c->judged_where_observable();
-  const double position_mm = partly ? c->observed.position_mm : c->errors.position_mm;
-  const double position_m = position_mm * 1e-3, angle = partly ? c->observed.rotation_deg : c->errors.rotation_angle_deg;
+  const ObservedDifference judged = JudgedDifference(*c);
+  const double position_mm = judged.position_mm;
+  const double position_m = position_mm * 1e-3, angle = judged.rotation_deg;
   std::string differs = Str("SegICP differs by ", Fixed(position_mm, 1), " mm, ", Fixed(angle, 1), " deg",
                             partly ? Str(" in the ", c->observability.observable, " observable directions") : "",
                             " (score ", Fixed(c->segicp_score, 2), ", ", label_score, ")");

@@ -66,6 +66,10 @@ struct LabelCheck {
   bool judged_where_observable() const { return observability.analysed && observability.observable < 6; }
 };
 
+/// The label's difference from the estimate that the verdict judges: the observable part when some
+/// direction is unobservable (`observed`), else the whole (`errors`): position mm, rotation angle deg.
+ObservedDifference JudgedDifference(const LabelCheck& c);
+
 /// Checks one label against the object's scene cloud (camera frame, from the mask). Runs the acquisition
 /// (seeded as options.check_seed says; `view_crops` are used for the view-sphere seed).
 LabelCheck CheckLabel(const PointCloud& scene_camera, const Rigid3d& T_camera_object_label, const CropSource& model,

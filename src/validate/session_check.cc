@@ -231,11 +231,10 @@ void CheckFrame(const SessionReader& session, const LabelRunView& labels, const 
 /// An accepted check whose difference lies well inside the accept bounds (tracking.confirm_fraction).
 bool ClearAgreement(const LabelCheck& c, const ValidateOptions& options) {
   if (c.verdict != Verdict::kAccept) return false;
-  const bool partly = c.judged_where_observable();
-  const double position_m = 1e-3 * (partly ? c.observed.position_mm : c.errors.position_mm);
-  const double angle_deg = partly ? c.observed.rotation_deg : c.errors.rotation_angle_deg;
+  const ObservedDifference judged = JudgedDifference(c);
   const double fraction = options.tracking.confirm_fraction;
-  return position_m <= fraction * options.verdict.accept_position_m && angle_deg <= fraction * options.verdict.accept_rotation_deg;
+  return 1e-3 * judged.position_mm <= fraction * options.verdict.accept_position_m &&
+         judged.rotation_deg <= fraction * options.verdict.accept_rotation_deg;
 }
 
 /// One instance's records in frame order through its own tracker.
