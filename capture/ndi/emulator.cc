@@ -34,7 +34,10 @@ uint64_t NextRandom(uint64_t& state) {  // xorshift64*
 bool WriteAll(int fd, const std::string& bytes) {
   size_t written = 0;
   while (written < bytes.size()) {
-    const ssize_t n = ::write(fd, bytes.data() + written, bytes.size() - written);
+    // MSG_NOSIGNAL: a client that hung up must end this connection, not the process (SIGPIPE);
+    // a pseudo-terminal (the serial path) is not a socket and takes write().
+    ssize_t n = ::send(fd, bytes.data() + written, bytes.size() - written, MSG_NOSIGNAL);
+    if (n < 0 && errno == ENOTSOCK) n = ::write(fd, bytes.data() + written, bytes.size() - written);
     if (n < 0 && (errno == EINTR || errno == EAGAIN)) {
       pollfd pfd{fd, POLLOUT, 0};
       ::poll(&pfd, 1, kPollMs);

@@ -1,6 +1,7 @@
 #include "capture/ndi/fd_transport.h"
 
 #include <poll.h>
+#include <sys/socket.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -16,10 +17,22 @@ FdTransport::~FdTransport() {
   if (fd_ >= 0) ::close(fd_);
 }
 
+// A tracker that closes its socket (restarted, unplugged from the network) must surface as a
+// TransportError the client reconnects after, not as SIGPIPE ending the recording: sockets are
+// written with MSG_NOSIGNAL; a tty (ENOTSOCK) with write().
+ssize_t FdTransport::WriteSome(std::string_view bytes) {
+  if (!is_tty_) {
+    const ssize_t n = ::send(fd_, bytes.data(), bytes.size(), MSG_NOSIGNAL);
+    if (n >= 0 || errno != ENOTSOCK) return n;
+    is_tty_ = true;
+  }
+  return ::write(fd_, bytes.data(), bytes.size());
+}
+
 void FdTransport::Write(std::string_view bytes) {
   size_t written = 0;
   while (written < bytes.size()) {
-    const ssize_t n = ::write(fd_, bytes.data() + written, bytes.size() - written);
+    const ssize_t n = WriteSome(bytes.substr(written));
     if (n < 0 && errno == EINTR) continue;
     if (n < 0 && errno == EAGAIN) {
       pollfd pfd{fd_, POLLOUT, 0};

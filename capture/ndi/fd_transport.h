@@ -1,5 +1,7 @@
 #pragma once
 // A Transport over a POSIX file descriptor (socket or tty); owns and closes the descriptor.
+#include <sys/types.h>
+
 #include "capture/ndi/transport.h"
 
 namespace mocap::ndi {
@@ -20,7 +22,10 @@ class FdTransport : public Transport {
   std::string description_;
 
  private:
+  ssize_t WriteSome(std::string_view bytes);
+
   int fd_;
+  bool is_tty_ = false;  // set on the first ENOTSOCK
 };
 
 /// errno as text, for TransportError messages.

@@ -1,6 +1,8 @@
 // The client against the in-process emulator: over TCP loopback and over a pseudo-terminal (the
 // serial path), with reconnects, corrupted bytes and tool-definition uploads.
 #include <fcntl.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
 #include <gtest/gtest.h>
 #include <stdlib.h>
 #include <unistd.h>
@@ -16,6 +18,7 @@
 #include "capture/ndi/client.h"
 #include "capture/ndi/emulator.h"
 #include "capture/ndi/link.h"
+#include "capture/ndi/transport.h"
 #include "core/check.h"
 
 namespace mocap::ndi {
@@ -238,6 +241,36 @@ TEST(NdiLink, DeviceErrorsNameCommandCodeAndMeaning) {
   const TrackingReply fresh = link.Bx(0x0801, 1000);  // ... and the late reply is dropped, not misread
   ASSERT_EQ(fresh.handles.size(), 1u);
   EXPECT_GE(fresh.handles[0].frame_number, reply.handles[0].frame_number + 4);  // 60 Hz, 100 ms later
+}
+
+// A tracker that hangs up must reach the client as a TransportError (which it reconnects after), not
+// as SIGPIPE ending the process: write to a socket whose peer has closed until the kernel refuses.
+TEST(NdiClient, WritingToATrackerThatHungUpIsAnErrorNotASignal) {
+  const int listener = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
+  ASSERT_GE(listener, 0);
+  sockaddr_in address{};
+  address.sin_family = AF_INET;
+  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  ASSERT_EQ(::bind(listener, reinterpret_cast<sockaddr*>(&address), sizeof(address)), 0);
+  ASSERT_EQ(::listen(listener, 1), 0);
+  socklen_t length = sizeof(address);
+  ASSERT_EQ(::getsockname(listener, reinterpret_cast<sockaddr*>(&address), &length), 0);
+  auto transport = ConnectTcp("127.0.0.1", ntohs(address.sin_port), 1000);
+  const int peer = ::accept(listener, nullptr, nullptr);
+  ASSERT_GE(peer, 0);
+  ::close(peer);
+  ::close(listener);
+  bool refused = false;
+  for (int i = 0; i < 100 && !refused; ++i) {
+    try {
+      transport->Write("BX 0801\r");
+      std::this_thread::sleep_for(5ms);  // the peer's RST arrives; the next write then fails with EPIPE
+    } catch (const TransportError& e) {
+      refused = true;
+      EXPECT_NE(std::string(e.what()).find("write failed"), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_TRUE(refused);
 }
 
 TEST(NdiClient, ReconnectsAfterTheTrackerRestartsAndReportsTheGap) {
