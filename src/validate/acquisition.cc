@@ -48,10 +48,11 @@ bool RanksBefore(double score_a, double rmse_a, double score_b, double rmse_b, d
 std::vector<int> RegisterCoarse(const PointGrid& scene_grid, const AcquisitionOptions& options,
                                 const AlignmentOptions& alignment, AcquisitionResult* result) {
   auto& hyps = result->hypotheses;
+  const Registration& registration = RegistrationOrOwn(options.registration);
 #pragma omp parallel for schedule(dynamic, 1)
   for (int i = 0; i < static_cast<int>(hyps.size()); ++i) {
     const PointCloud crop = EveryNth(result->crops[hyps[i].crop_index].points_model, options.hypothesis_stride);
-    hyps[i].icp = AlignPointToPoint(crop, scene_grid, hyps[i].T_camera_model_init, options.icp);
+    hyps[i].icp = registration.PointToPoint(crop, scene_grid, hyps[i].T_camera_model_init, options.icp);
     hyps[i].score = ScoreAlignment(crop, hyps[i].icp.T_target_source, scene_grid, alignment);
   }
   double top = -1.0;
@@ -79,11 +80,12 @@ void RefineBest(const PointGrid& scene_grid, const CropSource& model, const Acqu
                 const AlignmentOptions& alignment, const std::vector<int>& order, AcquisitionResult* result) {
   const int count = std::min<int>(options.refine_count, static_cast<int>(order.size()));
   std::vector<Refined> refined(count);
+  const Registration& registration = RegistrationOrOwn(options.registration);
 #pragma omp parallel for schedule(dynamic, 1)
   for (int j = 0; j < count; ++j) {
     const Rigid3d& T_coarse = result->hypotheses[order[j]].icp.T_target_source;
     refined[j].crop = model.Crop(T_coarse);
-    refined[j].icp = AlignPointToPoint(refined[j].crop.points_model, scene_grid, T_coarse, options.refine_icp);
+    refined[j].icp = registration.PointToPoint(refined[j].crop.points_model, scene_grid, T_coarse, options.refine_icp);
     refined[j].score =
         ScoreAlignment(refined[j].crop.points_model, refined[j].icp.T_target_source, scene_grid, alignment).score;
   }

@@ -4,6 +4,7 @@
 // alignment metric a(M, S); the best score above epsilon starts tracking. Registered coarse-to-fine
 // (docs/validation.md "Acquisition"): all N on a subset of their crop points, ranked by the subset's
 // score; the best refine_count refined on their full crops and scored by the full a(M, S).
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -11,6 +12,7 @@
 #include "validate/icp.h"
 #include "validate/point_grid.h"
 #include "validate/model_crop.h"
+#include "validate/registration.h"
 
 namespace mocap {
 
@@ -62,6 +64,10 @@ struct AcquisitionOptions {
     o.accelerate = true;
     return o;
   }();
+  /// The registration of both stages, and of the tracker's tracking step (validate/registration.h); null:
+  /// the validator's own. Here rather than beside the tracking options because every acquisition, in a
+  /// tracker or in a label check, is handed these options.
+  std::shared_ptr<const Registration> registration;
   void check() const;
 };
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <limits>
 
@@ -76,6 +77,8 @@ void PointGridOptions::check() const {
 
 PointGrid::PointGrid(const PointCloud& points, const PointGridOptions& options) {
   options.check();
+  static std::atomic<uint64_t> next_id{1};
+  id_ = next_id.fetch_add(1, std::memory_order_relaxed);
   if (points.empty()) return;
   std::vector<Eigen::Vector3f> input(points.size());
   Eigen::Vector3f lo = Eigen::Vector3f::Constant(std::numeric_limits<float>::max()), hi = -lo;

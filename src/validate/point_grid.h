@@ -42,6 +42,10 @@ class PointGrid {
   Eigen::Vector3d point(size_t index) const { return points_[index].cast<double>(); }
   /// The cell edge in use (options.cell_m or larger, see max_cells_per_point), metres.
   double cell_m() const { return cell_m_; }
+  /// A number no other grid built in this process has (a copy keeps it: it holds the same points), so
+  /// that a registration backend can cache its own index of the scene per grid (validate/registration.h);
+  /// an address could be reused by the next scene's grid.
+  uint64_t id() const { return id_; }
 
   /// Nearest stored point to `query` strictly within `max_distance_m`: returns false when there is none.
   bool Nearest(const Eigen::Vector3d& query, double max_distance_m, size_t* index, double* distance_sq_m2) const;
@@ -98,6 +102,7 @@ class PointGrid {
   Eigen::Vector3i dims_ = Eigen::Vector3i::Zero();
   float cell_m_ = 0.0f;
   float inv_cell_ = 0.0f;
+  uint64_t id_ = 0;
 };
 
 }  // namespace mocap

@@ -72,16 +72,12 @@ void ObjectTracker::RunTracking(const PointCloud& scene, const Rigid3d& T_world_
   }
   const PointGrid grid(pruned);
   const ModelCrop crop = model.Crop(predicted);
-  // Point-to-plane from the prediction, moving only in the directions the depth constrains: a table top
-  // tracked by point-to-point ICP slid along its plane from frame to frame.
-  const PlaneRefinement refined = RefinePointToPlane(crop, predicted, grid, options_.observability,
-                                                     options_.tracking.initial_gate_m);
-  step->icp.T_target_source = refined.T_camera_object;
-  step->icp.iterations = refined.iterations;
-  step->icp.inlier_rmse_m = refined.rmse_m;
-  step->icp.converged = refined.iterations > 0;
+  // Point-to-plane from the prediction; the validator's own moves only in the directions the depth
+  // constrains: a table top tracked by point-to-point ICP slid along its plane from frame to frame.
+  step->icp = RegistrationOrOwn(options_.acquisition.registration)
+                  .PointToPlane(crop, grid, predicted, options_.observability, options_.tracking.initial_gate_m);
   step->measured = true;
-  step->T_camera_object_measured = refined.T_camera_object;
+  step->T_camera_object_measured = step->icp.T_target_source;
   step->score = ScoreAlignment(crop.points_model, step->T_camera_object_measured, grid, options_.alignment).score;
   if (step->score < options_.tracking.theta) {
     mode_ = TrackMode::kAcquisition;
