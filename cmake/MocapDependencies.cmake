@@ -18,8 +18,9 @@ if(BUILD_TESTING)
 endif()
 if(BUILD_BENCHMARKS)
   find_package(benchmark REQUIRED)
-  # The validator benchmark's baseline (pcl::IterativeClosestPoint); only bench/ links it.
-  find_package(PCL 1.10 QUIET COMPONENTS common io registration kdtree search)
+  # The validator benchmarks' baselines (PCL's and Open3D's ICP); only bench/ links them.
+  find_package(PCL 1.10 QUIET COMPONENTS common io registration kdtree search features filters)
+  find_package(Open3D QUIET)
 endif()
 find_package(ZLIB REQUIRED)
 # Whole-buffer inflate and CRC-32/Adler-32 (SIMD) for the depth PNG decoder and the label encoders.

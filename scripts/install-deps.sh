@@ -14,7 +14,8 @@ packages=(
   libusb-1.0-0-dev libfreenect-dev libcpp-httplib-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   clang libclang-rt-14-dev
-  libpcl-dev
+  # the validator benchmarks' baselines: PCL's and Open3D's ICP (bench/ only)
+  libpcl-dev libopen3d-dev
   # src/calibrate: ChArUco detection (OpenCV contrib aruco) and the camera-mount refinement (Ceres)
   libopencv-contrib-dev libceres-dev
   # the one-node Slurm cluster of the Slurm executor's tests (scripts/slurm-cluster.sh, docs/slurm-test-cluster.md)
