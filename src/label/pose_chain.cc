@@ -29,49 +29,69 @@ void PoseChainOptions::check() const {
     throw InputError("PoseChainOptions", "fast-motion thresholds must be positive");
 }
 
-std::string PoseChain::WorldNode(const SessionReader& session, const std::string& tracker) const {
-  const TrackerStreamInfo* info = session.manifest().FindTracker(tracker);
-  MOCAP_CHECK(info != nullptr, "tracker '", tracker, "' not in the manifest");
-  if (info->frame == CameraNode()) return CameraNode();
-  return "frame:" + info->frame;  // the tracker's frame, or another camera's frame (not linked to this one)
+std::string PoseChain::WorldNode(const std::string& tracker_frame) const {
+  if (tracker_frame == CameraNode()) return CameraNode();
+  return "frame:" + tracker_frame;  // the tracker's frame, or another camera's frame (not linked to this one)
 }
 
-void PoseChain::AddBody(const SessionReader& session, const std::string& body) {
+void PoseChain::AddBody(const PoseChainInput& input, const std::string& body) {
   if (std::find(added_bodies_.begin(), added_bodies_.end(), body) != added_bodies_.end()) return;
-  const auto tracker = session.TrackerOfBody(body);
-  MOCAP_CHECK(tracker.has_value(), "body '", body, "' has no tracker");
-  graph_.AddStream(WorldNode(session, *tracker), BodyNode(body), session.PoseSamples(*tracker, body));
+  const auto found = input.bodies.find(body);
+  MOCAP_CHECK(found != input.bodies.end(), "body '", body, "' has no tracker");
+  graph_.AddStream(WorldNode(found->second.tracker_frame), BodyNode(body), found->second.samples);
   added_bodies_.push_back(body);
+}
+
+PoseChainInput PoseChainInputOf(const SessionReader& session, const std::string& camera,
+                                const std::vector<LabelObject>& objects, const LabelRig& rig) {
+  PoseChainInput input;
+  input.where = session.dir().string();
+  const CameraStreamInfo* info = session.manifest().FindCamera(camera);
+  if (info == nullptr) throw InputError(session.dir().string(), Str("the session has no camera '", camera, "'"));
+  input.camera = *info;
+  const LabelRigCamera* rig_camera = rig.Find(camera);
+  std::vector<std::string> bodies = {rig_camera && rig_camera->body ? *rig_camera->body : info->camera_body};
+  for (const LabelObject& object : objects)
+    for (const BodyMount& mount : object.mounts) bodies.push_back(mount.body);
+  for (const std::string& body : bodies) {
+    const auto tracker = body.empty() ? std::nullopt : session.TrackerOfBody(body);
+    if (!tracker || input.bodies.count(body)) continue;
+    input.bodies[body] = {session.manifest().FindTracker(*tracker)->frame, session.PoseSamples(*tracker, body)};
+  }
+  return input;
 }
 
 PoseChain::PoseChain(const SessionReader& session, const std::string& camera, const std::vector<LabelObject>& objects,
                      const LabelRig& rig, const PoseChainOptions& options)
-    : camera_name_(camera), options_(options), latency_ns_(rig.tracker_latency_ns), graph_(options.interpolation) {
+    : PoseChain(PoseChainInputOf(session, camera, objects, rig), objects, rig, options) {}
+
+PoseChain::PoseChain(const PoseChainInput& input, const std::vector<LabelObject>& objects, const LabelRig& rig,
+                     const PoseChainOptions& options)
+    : camera_name_(input.camera.name), options_(options), latency_ns_(rig.tracker_latency_ns), graph_(options.interpolation) {
   options_.check();
-  const CameraStreamInfo* info = session.manifest().FindCamera(camera);
-  if (info == nullptr) throw InputError(session.dir().string(), Str("the session has no camera '", camera, "'"));
-  const LabelRigCamera* rig_camera = rig.Find(camera);
-  camera_ = rig_camera && rig_camera->color_camera ? *rig_camera->color_camera : info->color_camera;
-  const std::string body = rig_camera && rig_camera->body ? *rig_camera->body : info->camera_body;
+  const CameraStreamInfo& info = input.camera;
+  const LabelRigCamera* rig_camera = rig.Find(camera_name_);
+  camera_ = rig_camera && rig_camera->color_camera ? *rig_camera->color_camera : info.color_camera;
+  const std::string body = rig_camera && rig_camera->body ? *rig_camera->body : info.camera_body;
   if (!body.empty()) {
-    if (!session.TrackerOfBody(body))
-      throw InputError(session.dir().string(), Str("camera body '", body, "' is reported by no tracker in the session"));
-    AddBody(session, body);
-    camera_world_ = WorldNode(session, *session.TrackerOfBody(body));
+    if (!input.bodies.count(body))
+      throw InputError(input.where, Str("camera body '", body, "' is reported by no tracker in the session"));
+    AddBody(input, body);
+    camera_world_ = WorldNode(input.bodies.at(body).tracker_frame);
     graph_.AddFixed(BodyNode(body), CameraNode(),
-                    rig_camera && rig_camera->T_body_camera ? *rig_camera->T_body_camera : info->T_body_camera);
+                    rig_camera && rig_camera->T_body_camera ? *rig_camera->T_body_camera : info.T_body_camera);
   }
   for (const LabelObject& object : objects) {
     for (const BodyMount& mount : object.mounts) {
       const std::string node = "mesh:" + object.name + "@" + mount.body;
       instances_.push_back({static_cast<uint16_t>(instances_.size() + 1), &object, &mount});
       mesh_nodes_.push_back(node);
-      if (!session.TrackerOfBody(mount.body)) {
+      if (!input.bodies.count(mount.body)) {
         unreported_.push_back(Str("no tracker in the session reports body '", mount.body, "'"));
         continue;
       }
       unreported_.emplace_back();
-      AddBody(session, mount.body);
+      AddBody(input, mount.body);
       graph_.AddFixed(BodyNode(mount.body), node, mount.T_body_mesh);
     }
   }

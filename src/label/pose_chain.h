@@ -4,6 +4,7 @@
 // interpolated at the frame time plus the rig's tracker latency. Sessions with known per-frame object
 // poses (a tracker whose frame is "camera:<name>", e.g. a BOP import) link objects to the camera directly.
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -41,12 +42,34 @@ struct InstancePose {
   double speed_deg_per_s = -1;
 };
 
+/// What a PoseChain reads of a recording: the camera's manifest entry and, for every tracked body, its
+/// tracker's frame and its samples. A session on disk gives it (PoseChainInputOf); the capture daemon's
+/// live view builds one from the samples it has just received, so its overlay is the labeller's chain.
+struct PoseChainInput {
+  std::string where;  ///< for messages (the session folder)
+  CameraStreamInfo camera;
+  struct Body {
+    std::string tracker_frame;  ///< TrackerStreamInfo::frame of the tracker that reports it
+    std::vector<PoseSample> samples;  ///< sorted by stamp_ns
+  };
+  std::map<std::string, Body> bodies;  ///< by body name; a body not here is reported by no tracker
+};
+
+/// The camera's entry and the samples of every body the rig's camera or the objects name. Throws
+/// InputError when the camera is not in the session.
+PoseChainInput PoseChainInputOf(const SessionReader& session, const std::string& camera,
+                                const std::vector<LabelObject>& objects, const LabelRig& rig);
+
 class PoseChain {
  public:
   /// Throws InputError when the camera is not in the session, or the camera body is named but not
   /// reported by any tracker in the session.
   PoseChain(const SessionReader& session, const std::string& camera, const std::vector<LabelObject>& objects,
             const LabelRig& rig, const PoseChainOptions& options = {});
+  /// The same chain over samples held in memory. Throws InputError when the camera body is named but
+  /// not in `input.bodies`.
+  PoseChain(const PoseChainInput& input, const std::vector<LabelObject>& objects, const LabelRig& rig,
+            const PoseChainOptions& options = {});
 
   const PinholeCamera& camera() const { return camera_; }
   const std::vector<LabelInstance>& instances() const { return instances_; }
@@ -57,9 +80,9 @@ class PoseChain {
   std::optional<Rigid3d> TrackerCameraPose(int64_t frame_stamp_ns) const;
 
  private:
-  std::string WorldNode(const SessionReader& session, const std::string& tracker) const;
+  std::string WorldNode(const std::string& tracker_frame) const;
   std::string CameraNode() const { return "camera:" + camera_name_; }
-  void AddBody(const SessionReader& session, const std::string& body);
+  void AddBody(const PoseChainInput& input, const std::string& body);
 
   std::string camera_name_;
   std::string camera_world_;  ///< the world node of the camera body's tracker ("" when not tracked)
