@@ -20,7 +20,13 @@ packages=(
   libopencv-contrib-dev libceres-dev
   # the one-node Slurm cluster of the Slurm executor's tests (scripts/slurm-cluster.sh, docs/slurm-test-cluster.md)
   munge slurmctld slurmd slurm-client
+  # the capture daemon's live page test (tests/capture/browser): Debian's browser, driven headless by
+  # playwright-core from npm (installed by the test's set-up from the committed lock file)
+  chromium
 )
+# node and npm from Debian, unless a node (e.g. NodeSource's, which bundles npm) is there already
+command -v node >/dev/null 2>&1 || packages+=(nodejs)
+command -v npm >/dev/null 2>&1 || packages+=(npm)
 
 missing=()
 for p in "${packages[@]}"; do

@@ -5,6 +5,7 @@
 #include <optional>
 
 #include "capture/daemon/json_depth.h"
+#include "capture/daemon/live_routes.h"
 #include "core/check.h"
 // Last: it pulls in <resolv.h>, whose `_res` macro breaks Eigen headers included after it.
 #include <httplib.h>
@@ -21,6 +22,8 @@ void ControlServerOptions::check() const {
                      "is not a loopback address: pass --allow-remote and a token (--token-file) to serve other hosts");
   if (allow_remote && token.empty())
     throw InputError("--allow-remote", "needs a token (--token-file F, $MOCAPLABEL_TOKEN or --token T): remote clients must authenticate");
+  live_feed.check();
+  if (max_live_viewers < 1) throw InputError("control limits", Str("max_live_viewers ", max_live_viewers, " must be positive"));
   if (max_body_bytes == 0 || max_json_depth < 1 || worker_threads < 1 || idle_timeout_s < 1 || read_timeout_s < 1)
     throw InputError("control limits", Str("must be positive (max_body_bytes ", max_body_bytes, ", max_json_depth ",
                                            max_json_depth, ", worker_threads ", worker_threads, ", idle_timeout_s ",
@@ -90,6 +93,7 @@ void Guarded(httplib::Response& res, Fn&& fn) {
 ControlServer::ControlServer(CaptureDaemon& daemon, const ControlServerOptions& options)
     : daemon_(daemon), options_(options), server_(std::make_unique<httplib::Server>()) {
   options_.check();
+  feed_ = std::make_unique<LiveFeed>(daemon_, options_.live_feed);
   AddRoutes();
   if (options_.port == 0) {
     port_ = server_->bind_to_any_port(options_.bind);
@@ -109,6 +113,7 @@ ControlServer::ControlServer(CaptureDaemon& daemon, const ControlServerOptions& 
 ControlServer::~ControlServer() { Stop(); }
 
 void ControlServer::Stop() {
+  if (feed_) feed_->Stop();  // ends the event streams, which would hold their workers
   if (server_) server_->stop();
   if (thread_.joinable()) thread_.join();
 }
@@ -117,13 +122,13 @@ namespace {
 
 // The endpoints and their methods: anything else on these paths is 405, any other path 404.
 const char* AllowedMethods(const std::string& path) {
-  if (path == "/status") return "GET, HEAD";
+  if (path == "/status" || IsLivePath(path)) return "GET, HEAD";
   if (path == "/start" || path == "/stop") return "POST";
   return nullptr;
 }
 
 bool MethodAllowed(const std::string& path, const std::string& method) {
-  if (path == "/status") return method == "GET" || method == "HEAD";
+  if (path == "/status" || IsLivePath(path)) return method == "GET" || method == "HEAD";
   if (path == "/start" || path == "/stop") return method == "POST";
   return false;
 }
@@ -159,26 +164,64 @@ void ReplyUnhandled(const httplib::Request& req, httplib::Response& res, size_t 
     return;
   }
   if (!AllowedMethods(req.path) && !req.path.empty()) {
-    ReplyError(res, 404, Str(req.method, " ", req.path, ": no such endpoint (GET /status, POST /start, POST /stop)"));
+    ReplyError(res, 404, Str(req.method, " ", req.path, ": no such endpoint (GET /status, POST /start, POST /stop, GET / for the live page)"));
     return;
   }
   ReplyError(res, res.status, Str(req.method, " ", req.path, ": malformed request"));
 }
 
+// A browser's request from a page of another origin (a script on some web site the operator has open)
+// carries that Origin: refused, so that it cannot start or stop sessions through the operator's browser.
+AccessDecision CheckOrigin(const httplib::Request& req) {
+  const std::string origin = req.get_header_value("Origin");
+  if (origin.empty() || origin == "http://" + req.get_header_value("Host")) return {};
+  return {403, "control API: requests from pages of " + origin + " are refused (only the daemon's own page)"};
+}
+
+// The token as "Bearer T": the header of API clients, else the cookie a browser got from /?token=T,
+// else that query itself (on the page only).
+std::string Authorization(const httplib::Request& req) {
+  if (req.has_header("Authorization")) return req.get_header_value("Authorization");
+  const std::string cookies = req.get_header_value("Cookie");
+  const std::string key = std::string(kTokenCookie) + "=";
+  for (size_t at = 0; at < cookies.size();) {
+    const size_t end = std::min(cookies.find(';', at), cookies.size());
+    std::string pair = cookies.substr(at, end - at);
+    pair.erase(0, pair.find_first_not_of(' '));
+    if (pair.rfind(key, 0) == 0) return "Bearer " + pair.substr(key.size());
+    at = end + 1;
+  }
+  if (req.path == "/" && req.has_param("token")) return "Bearer " + req.get_param_value("token");
+  return "";
+}
+
+// Sent to this daemon only, never to scripts, never along with requests from other sites.
+std::string TokenCookie(const std::string& token) {
+  return std::string(kTokenCookie) + "=" + token + "; Path=/; HttpOnly; SameSite=Strict";
+}
+
 }  // namespace
 
 void ControlServer::AddRoutes() {
-  server_->new_task_queue = [threads = options_.worker_threads] { return new httplib::ThreadPool(static_cast<size_t>(threads)); };
+  server_->new_task_queue = [threads = options_.worker_threads + options_.max_live_viewers] {
+    return new httplib::ThreadPool(static_cast<size_t>(threads));
+  };
   server_->set_keep_alive_timeout(options_.idle_timeout_s);
   server_->set_read_timeout(options_.read_timeout_s);
   server_->set_write_timeout(options_.read_timeout_s);  // a client that does not read its answer
   server_->set_payload_max_length(options_.max_body_bytes);
   server_->set_pre_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
-    const AccessDecision access = CheckAccess(options_, req.remote_addr, req.get_header_value("Authorization"));
-    if (access.status == 0) return httplib::Server::HandlerResponse::Unhandled;
+    AccessDecision access = CheckOrigin(req);
+    if (access.status == 0) access = CheckAccess(options_, req.remote_addr, Authorization(req));
+    if (access.status == 0) {
+      if (req.path == "/" && !options_.token.empty() && req.get_param_value("token") == options_.token)
+        res.set_header("Set-Cookie", TokenCookie(options_.token));
+      return httplib::Server::HandlerResponse::Unhandled;
+    }
     ReplyError(res, access.status, access.error);
     return httplib::Server::HandlerResponse::Handled;
   });
+  AddLiveRoutes(*server_, daemon_, *feed_, options_.max_live_viewers);
   server_->Get("/status", [this](const httplib::Request&, httplib::Response& res) {
     Guarded(res, [&] { return daemon_.Status(); });
   });

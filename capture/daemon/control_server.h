@@ -4,17 +4,22 @@
 //   GET  /status                     -> 200 CaptureDaemon::Status()
 //   POST /start  {"name": "S"}       -> 200 {"session", "dir", "state"}; 400 bad request; 409 recording
 //   POST /stop                       -> 200 the session summary; 409 nothing to stop
+//   GET  /, /live/...                -> the live page and its data (live_routes.h, docs/live-page.md)
 // Every error is a JSON object {"error": "..."} with a 4xx/5xx status: 404 an unknown path, 405 (with
 // Allow) a known path with another method, 413 a body over max_body_bytes (also chunked, or once
 // decompressed), 400 JSON nested deeper than max_json_depth. Access: clients from loopback addresses
 // only, unless allow_remote is set; binding to a non-loopback address requires allow_remote and a
-// token, and then every request must carry "Authorization: Bearer <token>".
+// token, and then every request must carry "Authorization: Bearer <token>"; a browser, which cannot
+// add that header to the page's requests, opens /?token=<token> once and then sends it as a cookie.
+// A request whose Origin is not the daemon's own is refused (another web site's script in the
+// operator's browser must not start or stop a session).
 #include <cstddef>
 #include <memory>
 #include <string>
 #include <thread>
 
 #include "capture/daemon/daemon.h"
+#include "capture/daemon/live_feed.h"
 
 namespace httplib {
 class Server;
@@ -37,10 +42,17 @@ struct ControlServerOptions {
   int worker_threads = 64;        ///< connections served at once
   int idle_timeout_s = 1;         ///< a connection without a (next) request is closed after this
   int read_timeout_s = 5;         ///< a request that stops arriving mid-way is dropped after this
+  /// Live page event streams at once. Each holds a worker of its own (on top of worker_threads) while
+  /// it lasts; more are answered 503 and the page polls instead.
+  int max_live_viewers = 128;
+  LiveFeedOptions live_feed{};
   /// Throws InputError: a non-loopback bind without allow_remote, allow_remote without a token, or a
   /// limit that is not positive.
   void check() const;
 };
+
+/// The name of the cookie that carries the token for a browser.
+inline constexpr const char* kTokenCookie = "mocaplabel_token";
 
 /// 127.0.0.0/8, ::1 and ::ffff:127.x.
 bool IsLoopbackAddress(const std::string& address);
@@ -68,6 +80,7 @@ class ControlServer {
   void AddRoutes();
   CaptureDaemon& daemon_;
   ControlServerOptions options_;
+  std::unique_ptr<LiveFeed> feed_;
   std::unique_ptr<httplib::Server> server_;
   std::thread thread_;
   int port_ = 0;

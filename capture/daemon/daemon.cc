@@ -18,6 +18,7 @@ void CaptureDaemonOptions::check() const {
   RecorderOptions r = recorder;
   r.session_dir = sessions_dir / "x";
   r.check();
+  live.check();
 }
 
 void CheckSessionName(const std::string& name) {
@@ -51,6 +52,7 @@ struct CaptureDaemon::StreamStats {
 CaptureDaemon::CaptureDaemon(const CaptureDaemonOptions& options, std::vector<std::unique_ptr<CaptureSource>> sources)
     : options_(options), sources_(std::move(sources)) {
   options_.check();
+  live_ = std::make_unique<LiveView>(options_.live, options_.labeller, [this] { return BuildManifest(); });
   try {
     for (auto& source : sources_) {
       source->Open();
@@ -58,6 +60,7 @@ CaptureDaemon::CaptureDaemon(const CaptureDaemonOptions& options, std::vector<st
     }
   } catch (...) {
     for (auto& source : sources_) source->Close();  // before the members they push into are gone
+    live_.reset();  // its thread reads the sources' stream entries
     throw;
   }
   watcher_ = std::thread([this] { WatchForFailure(); });
@@ -67,6 +70,7 @@ CaptureDaemon::~CaptureDaemon() {
   stop_ = true;
   if (watcher_.joinable()) watcher_.join();
   for (auto& source : sources_) source->Close();  // no producer left when the recorder stops
+  live_.reset();  // before the sources whose stream entries its thread reads
   std::shared_ptr<Recorder> recorder;
   {
     std::lock_guard lock(session_mutex_);
@@ -86,6 +90,7 @@ void CaptureDaemon::PushFrame(CapturedFrame&& frame) {
     std::lock_guard lock(stats_mutex_);
     stats(frame.camera).Note(MonotonicNowNs(), true);
   }
+  live_->OnFrame(frame);
   std::shared_ptr<Recorder> recorder;
   {
     std::lock_guard lock(session_mutex_);
@@ -101,6 +106,7 @@ void CaptureDaemon::PushSample(CapturedSample&& sample) {
     s.Note(sample.record.stamp_ns, sample.record.stamp_ns != s.last_stamp_ns);
     s.bodies[sample.record.body] = {sample.record.status, sample.record.stamp_ns};
   }
+  live_->OnSample(sample);
   std::shared_ptr<Recorder> recorder;
   {
     std::lock_guard lock(session_mutex_);
@@ -113,6 +119,7 @@ void CaptureDaemon::PushEvent(EventRecord&& event) {
   // Device events (gaps, reconnects, tracker alerts) matter to whoever watches the daemon, too.
   Log().log(event.kind == "error" ? spdlog::level::err : spdlog::level::warn, "capture: {} {}: {}", event.kind,
             event.stream, event.detail);
+  live_->OnEvent(event);
   std::shared_ptr<Recorder> recorder;
   {
     std::lock_guard lock(session_mutex_);
@@ -145,6 +152,7 @@ nlohmann::json CaptureDaemon::StartSession(const std::string& name) {
     failed_summary_.reset();
   }
   Log().info("capture: recording {}", dir.string());
+  live_->OnEvent({MonotonicNowNs(), "note", "", "recording session " + name});
   StartReplays();  // without session_mutex_: a starting source pushes its first events at once
   return {{"session", name}, {"dir", dir.string()}, {"state", "recording"}};
 }
@@ -179,6 +187,9 @@ nlohmann::json CaptureDaemon::StopSession() {
   const RecorderSummary summary = recorder->Stop();
   Log().info("capture: stopped {} ({})", summary.session_dir.string(),
              summary.complete ? std::string("complete") : summary.error);
+  live_->OnEvent({MonotonicNowNs(), summary.complete ? "note" : "error", "",
+                  "stopped session " + summary.session_dir.filename().string() +
+                      (summary.complete ? "" : ": " + summary.error)});
   return summary.ToJson();
 }
 
@@ -238,7 +249,8 @@ nlohmann::json CaptureDaemon::Status() const {
     const size_t recent = s->recent_ns.size();
     const bool fresh = recent > 0 && now_ns - s->recent_ns.back() < 1'000'000'000;
     streams[name] = {{"received", s->received}, {"rate_hz", fresh ? static_cast<double>(recent) : 0.0},
-                     {"last_stamp_ns", s->last_stamp_ns}, {"bodies", bodies}};
+                     {"last_stamp_ns", s->last_stamp_ns}, {"bodies", bodies},
+                     {"last_age_s", s->last_stamp_ns > 0 ? static_cast<double>(now_ns - s->last_stamp_ns) * 1e-9 : -1.0}};
   }
   status["streams"] = streams;
   status["disk"] = DiskStatus(options_.sessions_dir);

@@ -15,6 +15,7 @@
 #include <thread>
 #include <vector>
 
+#include "capture/daemon/live_view.h"
 #include "capture/daemon/recorder.h"
 #include "capture/daemon/source.h"
 
@@ -25,6 +26,9 @@ struct CaptureDaemonOptions {
   std::string rig_name{};                ///< recorded in the manifest's extra
   nlohmann::json manifest_extra = nlohmann::json::object();  ///< more fields for the manifest's extra
   RecorderOptions recorder{};           ///< session_dir is filled per session
+  LiveViewOptions live{};               ///< the live page's thumbnails and events
+  /// Draws the labels on the live thumbnails (null: thumbnails without labels).
+  std::shared_ptr<FrameLabeller> labeller{};
   void check() const;
 };
 
@@ -50,6 +54,9 @@ class CaptureDaemon final : public CaptureSink {
   /// Per stream: rate over the last second, totals, drops, visible bodies; queues; disk free; session.
   nlohmann::json Status() const;
 
+  /// The live page's events and thumbnails.
+  LiveView& live() { return *live_; }
+
   void PushFrame(CapturedFrame&& frame) override;
   void PushSample(CapturedSample&& sample) override;
   void PushEvent(EventRecord&& event) override;
@@ -62,6 +69,7 @@ class CaptureDaemon final : public CaptureSink {
   StreamStats& stats(const std::string& stream);  // stats_mutex_ held
 
   CaptureDaemonOptions options_;
+  std::unique_ptr<LiveView> live_;  // before the sources: they push into it
   std::vector<std::unique_ptr<CaptureSource>> sources_;
   mutable std::mutex session_mutex_;  // guards recorder_, session_name_, last_summary_
   std::shared_ptr<Recorder> recorder_;

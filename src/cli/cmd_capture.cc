@@ -15,9 +15,11 @@
 #include "capture/daemon/daemon_address.h"
 #include "capture/daemon/rerecord.h"
 #include "capture/daemon/sources.h"
+#include "cli/cmd_capture_labeller.h"
 #include "cli/parse_args.h"
 #include "cli/commands.h"
 #include "core/check.h"
+#include "pipeline/object_library.h"
 #include "pipeline/rig.h"
 // Last: it pulls in <resolv.h>, whose `_res` macro breaks Eigen headers included after it.
 #include <httplib.h>
@@ -55,9 +57,27 @@ class AddressFileGuard {
   int64_t pid_;
 };
 
+// The live page's thumbnails, and their labels when an object library is given (docs/live-page.md).
+struct LiveFlags {
+  std::string objects;
+  double thumbnail_hz = capture::LiveViewOptions{}.thumbnail_rate_hz;
+};
+
+void ApplyLiveFlags(const LiveFlags& flags, const pipeline::Rig& rig, capture::CaptureDaemonOptions& daemon) {
+  daemon.live.thumbnail_rate_hz = flags.thumbnail_hz;
+  if (flags.objects.empty()) return;
+  // One rendering thread at a low rate: llvmpipe's own rasteriser threads would only compete with the
+  // recording for the cores. Mesa reads this once, at the first EGL display, which is still to come.
+  if (std::getenv("LP_NUM_THREADS") == nullptr) setenv("LP_NUM_THREADS", "0", 0);
+  daemon.labeller = std::make_shared<RigFrameLabeller>(
+      pipeline::LabelRigOf(rig), pipeline::LabelObjectsOf(pipeline::ReadObjectLibrary(flags.objects)));
+}
+
 int RunDaemon(const fs::path& rig_path, const std::optional<fs::path>& sessions, ControlServerOptions overrides,
-              bool port_given, bool bind_given, bool json) {
-  CaptureRig rig = LoadCaptureRig(rig_path);
+              bool port_given, bool bind_given, bool json, const LiveFlags& live) {
+  const pipeline::Rig full_rig = pipeline::ReadRig(rig_path);
+  CaptureRig rig = pipeline::CaptureOptionsOf(full_rig);
+  ApplyLiveFlags(live, full_rig, rig.daemon);
   if (sessions) rig.daemon.sessions_dir = *sessions;
   if (port_given) rig.control.port = overrides.port;
   if (bind_given) rig.control.bind = overrides.bind;
@@ -81,7 +101,7 @@ int RunDaemon(const fs::path& rig_path, const std::optional<fs::path>& sessions,
   const nlohmann::json where = {{"bind", rig.control.bind}, {"port", server.port()},
                                 {"sessions_dir", rig.daemon.sessions_dir.string()}, {"pid", ::getpid()}};
   if (json) std::printf("%s\n", where.dump().c_str());
-  else std::printf("capture daemon on http://%s:%d, sessions in %s (SIGTERM or Ctrl-C to stop)\n",
+  else std::printf("capture daemon on http://%s:%d (live page: open it in a browser), sessions in %s (SIGTERM or Ctrl-C to stop)\n",
                    rig.control.bind.c_str(), server.port(), rig.daemon.sessions_dir.c_str());
   std::fflush(stdout);
 
@@ -206,6 +226,10 @@ int RunCapture(int argc, char** argv) {
                      "require 'Authorization: Bearer TOKEN' from every client (visible in ps: prefer --token-file or $MOCAPLABEL_TOKEN)");
   daemon->add_option("--token-file", token_file, "read the token from the first line of this file");
   daemon->add_flag("--json", daemon_json, "print where it listens as one JSON line on stdout");
+  LiveFlags live;
+  daemon->add_option("--objects", live.objects, "object library: draw the objects' labels on the live page's thumbnails");
+  daemon->add_option("--thumbnail-hz", live.thumbnail_hz, "live page thumbnails per second per camera (0: none)")
+      ->capture_default_str()->check(CLI::Range(0.0, 30.0));
 
   ClientFlags flags;
   std::string name;
@@ -233,7 +257,7 @@ int RunCapture(int argc, char** argv) {
   if (daemon->parsed()) {
     control.token = capture::ResolveControlToken(capture::TokenSourcesFromEnvironment(control.token, token_file));
     return RunDaemon(rig_path, sessions.empty() ? std::nullopt : std::optional<fs::path>(sessions), control,
-                     port->count() > 0, bind->count() > 0, daemon_json);
+                     port->count() > 0, bind->count() > 0, daemon_json, live);
   }
   if (start->parsed())
     return Request(flags, "POST", "/start", {{"name", name}},

@@ -1,0 +1,21 @@
+# The browser test's npm dependency (playwright-core, no browser: Debian's chromium is used) installed
+# from the committed package.json and package-lock.json into DEST (the build tree), once per lock file.
+# Run as the ctest fixture capture_browser_npm: cmake -DSRC=... -DDEST=... -P npm_ci.cmake
+find_program(NPM npm)
+if(NOT NPM)
+  message(FATAL_ERROR "npm not found: install Debian's npm (scripts/install-deps.sh); the live page test needs it")
+endif()
+file(MAKE_DIRECTORY "${DEST}")
+set(installed "${DEST}/node_modules/playwright-core/package.json")
+if(EXISTS "${installed}" AND EXISTS "${DEST}/package-lock.json")
+  file(SHA256 "${SRC}/package-lock.json" want)
+  file(SHA256 "${DEST}/package-lock.json" have)
+  if(want STREQUAL have)
+    return()
+  endif()
+endif()
+file(COPY "${SRC}/package.json" "${SRC}/package-lock.json" DESTINATION "${DEST}")
+execute_process(COMMAND "${NPM}" ci --no-audit --no-fund --loglevel=error WORKING_DIRECTORY "${DEST}" RESULT_VARIABLE rc)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "npm ci in ${DEST} failed (${rc}): is the npm registry reachable?")
+endif()
