@@ -67,7 +67,13 @@ nlohmann::json ToJson(const RecordCheck& r) {
       j["observed_position_error_mm"] = c.observed.position_mm;
       j["observed_rotation_error_deg"] = c.observed.rotation_deg;
       j["judged_where_observable"] = c.judged_where_observable();
+      j["residual_rms_mm"] = 1e3 * c.observability.residual_rms_m;
+      j["supported_points"] = c.observability.supported_points;
     }
+    j["precision_position_mm"] = c.precision.position_mm;
+    j["precision_rotation_deg"] = c.precision.rotation_deg;
+    j["accept_position_mm"] = c.accept_position_mm;
+    j["accept_rotation_deg"] = c.accept_rotation_deg;
   }
   j["label_score"] = c.label_score;
   if (r.segmentation)
@@ -101,6 +107,10 @@ RecordCheck RecordCheckFromJson(const nlohmann::json& j, const std::string& wher
       c.observability.observable = static_cast<int>(f.Integer("observable_directions"));
       c.observability.unobservable = f.Strings("unobservable");
       c.observed = {f.Number("observed_position_error_mm"), f.Number("observed_rotation_error_deg")};
+    }
+    if (f.Has("accept_position_mm")) {  // written since the bounds are per record
+      c.precision = {f.Number("precision_position_mm"), f.Number("precision_rotation_deg")};
+      c.accept_position_mm = f.Number("accept_position_mm"), c.accept_rotation_deg = f.Number("accept_rotation_deg");
     }
   }
   c.label_score = f.Number("label_score");

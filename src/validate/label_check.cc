@@ -26,6 +26,25 @@ void ScoreEstimate(const Rigid3d& label, const ValidateOptions& options, LabelCh
 }
 
 
+/// Directions the probe alone found observable (weak in the normals, seen by the outline) are refined
+/// in a second point-to-plane pass, with the robust kernel: the acquisition's point-to-point ICP leaves a
+/// near-body of revolution turned by its clutter (a hand holding a bottle turned it 2 deg), and the first
+/// pass moves only along strong directions.
+void PolishProbedDirections(const PointGrid& grid, const CropSource& model, const ValidateOptions& options,
+                            LabelCheck* check) {
+  const Observability& o = check->observability;
+  bool probed = false;
+  for (int k = 0; k < 6; ++k) probed |= o.analysed && o.judged[k] && o.probe_loss[k] >= 0;
+  if (!probed) return;
+  const ModelCrop crop = model.Crop(check->T_camera_object_segicp);
+  const PlaneRefinement refined = RefinePointToPlane(crop, check->T_camera_object_segicp, grid, options.observability, 0.0, &o);
+  if (refined.iterations == 0) return;
+  // No score guard: the score counts clutter within tau as support (fingers on a held bottle), which the
+  // robust fit rightly ignores, so a better pose can score a few hundredths lower.
+  check->T_camera_object_segicp = refined.T_camera_object;
+  check->segicp_score = ScoreAlignment(crop.points_model, refined.T_camera_object, grid, options.alignment).score;
+}
+
 /// Label score, errors, success and verdict once an estimate (or none) is known.
 void Finish(const PointGrid& grid, const Rigid3d& label, const CropSource& model, const ValidateOptions& options,
             LabelCheck* check) {
@@ -39,6 +58,7 @@ void Finish(const PointGrid& grid, const Rigid3d& label, const CropSource& model
       check->segicp_score = ScoreAlignment(crop.points_model, refined.T_camera_object, grid, options.alignment).score;
     }
     check->observability = AnalyseObservability(model, check->T_camera_object_segicp, grid, options.observability);
+    PolishProbedDirections(grid, model, options, check);
     ScoreEstimate(label, options, check);
   }
   DecideVerdict(options.verdict, check);
@@ -102,6 +122,25 @@ ObservedDifference JudgedDifference(const LabelCheck& c) {
   return {c.errors.position_mm, c.errors.rotation_angle_deg};
 }
 
+namespace {
+
+/// The record's accept bounds from its estimate's precision (VerdictOptions): a precise estimate is
+/// held to the floor, the label's own error; an imprecise one gets up to the widest bounds.
+void SetAcceptBounds(const VerdictOptions& o, LabelCheck* c) {
+  c->accept_position_mm = 1e3 * o.accept_position_m;
+  c->accept_rotation_deg = o.accept_rotation_deg;
+  if (!c->observability.analysed) return;
+  const Eigen::Vector3d at = c->judged_where_observable() ? c->observability.center_object : Eigen::Vector3d::Zero();
+  c->precision = PrecisionOf(c->observability, at, o.points_per_residual);
+  const auto bound = [&](double floor, double sigma, double widest) {
+    return std::min(widest, std::hypot(floor, o.accept_sigmas * sigma));
+  };
+  c->accept_position_mm = bound(1e3 * o.accept_floor_position_m, c->precision.position_mm, 1e3 * o.accept_position_m);
+  c->accept_rotation_deg = bound(o.accept_floor_rotation_deg, c->precision.rotation_deg, o.accept_rotation_deg);
+}
+
+}  // namespace
+
 void DecideVerdict(const VerdictOptions& o, LabelCheck* c) {
   const std::string label_score = Str("label score ", Fixed(c->label_score, 2));
   if (!c->segicp_reliable) {
@@ -125,7 +164,9 @@ void DecideVerdict(const VerdictOptions& o, LabelCheck* c) {
     for (const std::string& u : c->observability.unobservable) differs += " " + u + ";";
     differs.pop_back();
   }
-  if (position_m <= o.accept_position_m && angle <= o.accept_rotation_deg) {
+  SetAcceptBounds(o, c);
+  differs += Str("; accept bounds ", Fixed(c->accept_position_mm, 1), " mm, ", Fixed(c->accept_rotation_deg, 1), " deg");
+  if (position_mm <= c->accept_position_mm && angle <= c->accept_rotation_deg) {
     c->verdict = Verdict::kAccept;
     c->reason_code = partly ? VerdictReason::kAgreesWhereObservable : VerdictReason::kAgrees;
   } else if (position_m > o.reject_position_m || angle > o.reject_rotation_deg) {

@@ -62,6 +62,11 @@ struct LabelCheck {
   /// direction is unobservable.
   Observability observability;
   ObservedDifference observed;
+  /// The estimate's precision in the judged directions and the accept bounds derived from it (at most
+  /// VerdictOptions' accept_*; those when the analysis did not run), mm and deg; set by DecideVerdict.
+  EstimatePrecision precision;
+  double accept_position_mm = 0.0;
+  double accept_rotation_deg = 0.0;
   /// The verdict judged `observed`: the analysis ran and found some direction unobservable.
   bool judged_where_observable() const { return observability.analysed && observability.observable < 6; }
 };

@@ -1,7 +1,9 @@
 #include "validate/observability.h"
 
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cmath>
+#include <optional>
 #include <cstdio>
 
 #include "core/check.h"
@@ -50,12 +52,20 @@ void ObservabilityOptions::check() const {
   if (!(normal_radius_m > 0)) throw InputError("ObservabilityOptions", "normal_radius_m must be positive");
   if (refine_iterations < 0) throw InputError("ObservabilityOptions", "refine_iterations must be >= 0");
   if (max_points < 100) throw InputError("ObservabilityOptions", "max_points must be >= 100");
+  if (!(robust_sigmas >= 0 && robust_sigmas <= 100)) throw InputError("ObservabilityOptions", "robust_sigmas must lie in [0, 100]");
 }
 
 namespace {
 
 using Vector6d = Eigen::Matrix<double, 6, 1>;
 using Matrix6d = Eigen::Matrix<double, 6, 6>;
+
+/// Weak directions with less information than this are not refined even where the probe saw them: a
+/// table top's slide can lose a few percent of its edge points and yet have no normal against it.
+constexpr double kMinProbedInformation = 0.01;
+
+/// The robust kernel's scale never drops below the depth's quantisation at a metre (about 1 mm).
+constexpr double kMinRobustScaleM = 0.001;
 
 /// Point-to-plane normal equations at T_camera_object over the supported crop points: A and b of the
 /// residuals n.(T p - s) (camera frame), per point, about the supported points' centroid.
@@ -71,8 +81,26 @@ struct NormalEquations {
 /// Every k-th index of n, k keeping at most max_points.
 size_t Stride(size_t n, int max_points) { return std::max<size_t>(1, (n + static_cast<size_t>(max_points) - 1) / static_cast<size_t>(max_points)); }
 
+/// Geman-McClure weights of point-to-plane residuals `r`, at `sigmas` times their robust spread (MAD),
+/// no narrower than `min_scale_m`; all ones for sigmas = 0 (least squares). A hand holding an object
+/// puts finger points a centimetre or two in front of its surface and inside its mask (the labeller's
+/// visibility tolerance is about 2 cm): at full weight they turned a carried bottle 2 deg about its axis.
+std::vector<double> RobustWeights(const std::vector<double>& r, double sigmas, double min_scale_m) {
+  std::vector<double> w(r.size(), 1.0);
+  if (sigmas <= 0 || r.empty()) return w;
+  std::vector<double> magnitude(r.size());
+  for (size_t i = 0; i < r.size(); ++i) magnitude[i] = std::abs(r[i]);
+  std::nth_element(magnitude.begin(), magnitude.begin() + static_cast<std::ptrdiff_t>(magnitude.size() / 2), magnitude.end());
+  const double c = sigmas * std::max(min_scale_m, 1.4826 * magnitude[magnitude.size() / 2]);
+  for (size_t i = 0; i < r.size(); ++i) {
+    const double u = 1.0 + (r[i] / c) * (r[i] / c);
+    w[i] = 1.0 / (u * u);
+  }
+  return w;
+}
+
 NormalEquations Build(const PointCloud& points, const PointCloud& normals, const Rigid3d& T_camera_object,
-                      const PointGrid& scene, double gate_m, int max_points) {
+                      const PointGrid& scene, double gate_m, int max_points, double robust_sigmas) {
   NormalEquations e;
   std::vector<std::pair<size_t, Eigen::Vector3d>> matches;  // crop index, scene point (camera frame)
   for (size_t i = 0; i < points.size(); i += Stride(points.size(), max_points)) {
@@ -89,17 +117,25 @@ NormalEquations Build(const PointCloud& points, const PointCloud& normals, const
   for (const auto& [i, s] : matches) radius_sq += (points[i] - e.center).squaredNorm();
   e.radius_m = std::max(1e-3, std::sqrt(radius_sq / static_cast<double>(matches.size())));
   const Eigen::Matrix3d R = T_camera_object.rotation_matrix();
-  for (const auto& [i, s] : matches) {
+  std::vector<double> residuals;
+  residuals.reserve(matches.size());
+  for (const auto& [i, s] : matches) residuals.push_back((R * normals[i]).dot(T_camera_object * points[i] - s));
+  const std::vector<double> weights = RobustWeights(residuals, robust_sigmas, kMinRobustScaleM);
+  double weight_sum = 0;
+  for (size_t m = 0; m < matches.size(); ++m) {
+    const size_t i = matches[m].first;
     Vector6d J;
     J << (points[i] - e.center).cross(normals[i]) / e.radius_m, normals[i];
-    const double r = (R * normals[i]).dot(T_camera_object * points[i] - s);
-    e.A += J * J.transpose();
-    e.b += J * r;
-    e.rmse_m += r * r;
+    const double r = residuals[m], w = weights[m];
+    e.A += w * J * J.transpose();
+    e.b += w * J * r;
+    e.rmse_m += w * r * r;
+    weight_sum += w;
   }
-  e.rmse_m = std::sqrt(e.rmse_m / static_cast<double>(matches.size()));
-  e.A /= static_cast<double>(matches.size());
-  e.b /= static_cast<double>(matches.size());
+  // Weighted means: the information per supported point and the residual RMS of the points kept.
+  e.rmse_m = std::sqrt(e.rmse_m / weight_sum);
+  e.A /= weight_sum;
+  e.b /= weight_sum;
   return e;
 }
 
@@ -107,6 +143,7 @@ NormalEquations Build(const PointCloud& points, const PointCloud& normals, const
 Observability Analyse(const NormalEquations& e, const ObservabilityOptions& options) {
   Observability out;
   out.supported_points = e.supported;
+  out.residual_rms_m = e.rmse_m;
   if (e.supported < 10) return out;
   const Eigen::SelfAdjointEigenSolver<Matrix6d> eig(e.A);
   out.analysed = true;
@@ -170,7 +207,8 @@ Observability AnalyseObservability(const CropSource& model, const Rigid3d& T_cam
   const ModelCrop crop = model.Crop(T_camera_object);
   const PointCloud normals = NormalsOf(crop, T_camera_object, options.normal_radius_m);
   Observability out =
-      Analyse(Build(crop.points_model, normals, T_camera_object, scene_camera, options.support_distance_m, options.max_points),
+      Analyse(Build(crop.points_model, normals, T_camera_object, scene_camera, options.support_distance_m, options.max_points,
+            options.robust_sigmas),
               options);
   if (out.analysed) {
     Probe(model, T_camera_object, scene_camera, options, &out);
@@ -179,25 +217,52 @@ Observability AnalyseObservability(const CropSource& model, const Rigid3d& T_cam
   return out;
 }
 
+namespace {
+
+/// The projector onto the directions `probed` found observable by the probe alone (weak information,
+/// but moving along them loses the outline's support): a body nearly of revolution, such as a bottle,
+/// is told apart from its turned self by a few features, so its spin is weak yet observable.
+std::optional<Matrix6d> ProbedProjector(const Observability* probed) {
+  if (!probed || !probed->analysed) return std::nullopt;
+  Matrix6d P = Matrix6d::Zero();
+  for (int k = 0; k < 6; ++k)
+    if (probed->judged[k] && probed->probe_loss[k] >= 0) P += probed->directions.col(k) * probed->directions.col(k).transpose();
+  if (P.isZero()) return std::nullopt;
+  return P;
+}
+
+}  // namespace
+
 PlaneRefinement RefinePointToPlane(const ModelCrop& crop, const Rigid3d& T_camera_object_init,
                                    const PointGrid& scene_camera, const ObservabilityOptions& options,
-                                   double first_gate_m) {
+                                   double first_gate_m, const Observability* probed) {
+  const std::optional<Matrix6d> probed_move = ProbedProjector(probed);
   const PointCloud normals = NormalsOf(crop, T_camera_object_init, options.normal_radius_m);
   PlaneRefinement out;
   out.T_camera_object = T_camera_object_init;
   for (int iteration = 0; iteration < options.refine_iterations; ++iteration) {
     const double gate_m = iteration == 0 ? std::max(first_gate_m, options.support_distance_m) : options.support_distance_m;
-    const NormalEquations e = Build(crop.points_model, normals, out.T_camera_object, scene_camera, gate_m, options.max_points);
+    const NormalEquations e = Build(crop.points_model, normals, out.T_camera_object, scene_camera, gate_m, options.max_points,
+                                    options.robust_sigmas);
     out.observability = Analyse(e, options);
     out.rmse_m = e.rmse_m;
     if (!out.observability.analysed) return out;
     // Gauss-Newton step in the observable directions only: the pose stays where it started along the
     // others (the label, or the acquisition's estimate), rather than drifting on noise.
     Vector6d step = Vector6d::Zero();
-    for (int k = 0; k < 6; ++k)
-      if (out.observability.judged[k])
-        step -= out.observability.directions.col(k) * (out.observability.directions.col(k).dot(e.b) /
-                                                        out.observability.information(k));
+    Vector6d weak_step = Vector6d::Zero();
+    for (int k = 0; k < 6; ++k) {
+      const Vector6d d = out.observability.directions.col(k);
+      const double information = out.observability.information(k);
+      if (information >= options.min_information)
+        step -= d * (d.dot(e.b) / information);
+      else if (probed_move && information >= kMinProbedInformation)  // only its part the probe found observable
+        weak_step -= *probed_move * d * (d.dot(e.b) / information);
+    }
+    // Weak directions get a trust region of one probe length per step: their Gauss-Newton step divides
+    // by little information and would otherwise leap on noise.
+    if (weak_step.norm() > options.probe_m) weak_step *= options.probe_m / weak_step.norm();
+    step += weak_step;
     out.T_camera_object = Moved(out.T_camera_object, step, e.center, e.radius_m);
     out.iterations = iteration + 1;
     if (step.tail<3>().norm() < 1e-6 && step.head<3>().norm() < 1e-5 * e.radius_m) break;
@@ -214,6 +279,22 @@ ObservedDifference ObservedPart(const Observability& o, const Rigid3d& estimate,
   for (int k = 0; k < 6; ++k)
     if (!o.analysed || o.judged[k]) observed += o.directions.col(k) * o.directions.col(k).dot(d);
   return {1e3 * observed.tail<3>().norm(), DegFromRad(observed.head<3>().norm() / o.radius_m)};
+}
+
+EstimatePrecision PrecisionOf(const Observability& o, const Eigen::Vector3d& point_object, double points_per_residual) {
+  if (!o.analysed || o.supported_points <= 0) return {};
+  const double n = std::max(1.0, o.supported_points / points_per_residual);
+  const Eigen::Vector3d lever = point_object - o.center_object;
+  double position_var = 0, rotation_var = 0;
+  for (int k = 0; k < 6; ++k) {
+    if (!o.judged[k]) continue;
+    // Variance along direction k; a probe-judged direction has little information, and a large variance.
+    const double var = o.residual_rms_m * o.residual_rms_m / (n * std::max(o.information(k), 1e-9));
+    const Eigen::Vector3d w = o.directions.col(k).head<3>() / o.radius_m, v = o.directions.col(k).tail<3>();
+    position_var += var * (v + w.cross(lever)).squaredNorm();
+    rotation_var += var * w.squaredNorm();
+  }
+  return {1e3 * std::sqrt(position_var), DegFromRad(std::sqrt(rotation_var))};
 }
 
 void SummariseObservability(Observability* o) {

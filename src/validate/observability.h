@@ -42,12 +42,17 @@ struct ObservabilityOptions {
   int max_points = 3000;
   /// Gauss-Newton iterations of the point-to-plane refinement (RefinePointToPlane); 0: none.
   int refine_iterations = 10;
+  /// Residuals are weighted by a Geman-McClure kernel at this many robust standard deviations (MAD) of
+  /// the residuals, so points of something else on the object's surface (fingers holding it) do not
+  /// pull the estimate; 0: plain least squares.
+  double robust_sigmas = 3.0;
   void check() const;
 };
 
 struct Observability {
   bool analysed = false;       ///< false: too few supported points; every direction taken as observable
   int supported_points = 0;
+  double residual_rms_m = 0.0;  ///< point-to-plane residual RMS of the supported points
   int observable = 6;          ///< directions judged (by their information or by the probe)
   /// Eigenvalues (per supported point, ascending) and eigenvectors (columns) of A, in the object frame
   /// about `center_object`, rotation part scaled by `radius_m`.
@@ -80,10 +85,12 @@ struct PlaneRefinement {
   double rmse_m = 0.0;  ///< point-to-plane residual RMS at the last iteration's start
 };
 /// `first_gate_m`: the correspondence gate of the first iteration (a tracking prediction may be a
-/// centimetre or two off); later ones use options.support_distance_m.
+/// centimetre or two off); later ones use options.support_distance_m. `probed`: an analysis at (or
+/// near) the start; the weak directions its probe found observable are refined too (their part of the
+/// Gauss-Newton step), so that only truly unobservable directions keep their start.
 PlaneRefinement RefinePointToPlane(const ModelCrop& crop, const Rigid3d& T_camera_object_init,
                                    const PointGrid& scene_camera, const ObservabilityOptions& options,
-                                   double first_gate_m = 0.0);
+                                   double first_gate_m = 0.0, const Observability* probed = nullptr);
 
 /// Sets `observable` and the `unobservable` sentences from `judged` and `directions` (after the
 /// directions were expressed in another object frame, as ApplySymmetry does).
@@ -96,5 +103,18 @@ struct ObservedDifference {
   double rotation_deg = 0.0;
 };
 ObservedDifference ObservedPart(const Observability& observability, const Rigid3d& estimate, const Rigid3d& label);
+
+/// One standard deviation of an estimate in its observable directions, from the point-to-plane normal
+/// equations: a least-squares estimate with residual RMS s over n supported points has covariance
+/// s^2 (n A)^-1 (A per point), here summed over the observable eigen-directions only. Neighbouring crop
+/// points share the sensor's noise and the scene's voxel (their residuals are correlated), so n is
+/// divided by `points_per_residual`. `point_object`: where the position is taken (the analysis centre
+/// for an observed difference, the object origin for the whole one). Zeros when not analysed.
+struct EstimatePrecision {
+  double position_mm = 0.0;
+  double rotation_deg = 0.0;
+};
+EstimatePrecision PrecisionOf(const Observability& observability, const Eigen::Vector3d& point_object,
+                              double points_per_residual);
 
 }  // namespace mocap

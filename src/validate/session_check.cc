@@ -233,8 +233,7 @@ bool ClearAgreement(const LabelCheck& c, const ValidateOptions& options) {
   if (c.verdict != Verdict::kAccept) return false;
   const ObservedDifference judged = JudgedDifference(c);
   const double fraction = options.tracking.confirm_fraction;
-  return 1e-3 * judged.position_mm <= fraction * options.verdict.accept_position_m &&
-         judged.rotation_deg <= fraction * options.verdict.accept_rotation_deg;
+  return judged.position_mm <= fraction * c.accept_position_mm && judged.rotation_deg <= fraction * c.accept_rotation_deg;
 }
 
 /// One instance's records in frame order through its own tracker.

@@ -21,6 +21,13 @@ void VerdictOptions::check() const {
     throw InputError("VerdictOptions", "need 0 < accept_position_m <= reject_position_m");
   if (!(accept_rotation_deg > 0 && accept_rotation_deg <= reject_rotation_deg))
     throw InputError("VerdictOptions", "need 0 < accept_rotation_deg <= reject_rotation_deg");
+  if (!(accept_floor_position_m > 0 && accept_floor_position_m <= accept_position_m))
+    throw InputError("VerdictOptions", "need 0 < accept_floor_position_m <= accept_position_m");
+  if (!(accept_floor_rotation_deg > 0 && accept_floor_rotation_deg <= accept_rotation_deg))
+    throw InputError("VerdictOptions", "need 0 < accept_floor_rotation_deg <= accept_rotation_deg");
+  if (!(accept_sigmas >= 0 && accept_sigmas <= 100)) throw InputError("VerdictOptions", "accept_sigmas must lie in [0, 100]");
+  if (!(points_per_residual >= 1 && points_per_residual <= 1000))
+    throw InputError("VerdictOptions", "points_per_residual must lie in [1, 1000]");
   if (!(success_position_m > 0 && success_rotation_deg > 0))
     throw InputError("VerdictOptions", "success thresholds must be positive");
   if (!(reject_label_score >= 0 && reject_label_score <= 1))

@@ -57,9 +57,17 @@ struct TrackingOptions {
 
 /// Thresholds of the label verdict (docs/validation.md "Verdicts").
 struct VerdictOptions {
-  /// SegICP estimate and label agree: accept.
+  /// SegICP estimate and label agree: accept. These are the widest accept bounds; each record's own
+  /// are sqrt(floor^2 + (accept_sigmas * sigma)^2), at most these, sigma the estimate's precision in the
+  /// judged directions (PrecisionOf; docs/validation.md "Accept bounds"). The floor stands for the
+  /// label's own error (tracker noise, calibration residuals), which the depth cannot tell apart.
   double accept_position_m = 0.005;
   double accept_rotation_deg = 3.0;
+  double accept_floor_position_m = 0.0025;
+  double accept_floor_rotation_deg = 1.5;
+  double accept_sigmas = 3.0;
+  /// Supported crop points per independent residual in PrecisionOf.
+  double points_per_residual = 4.0;
   /// SegICP estimate and label disagree beyond these: reject.
   double reject_position_m = 0.02;
   double reject_rotation_deg = 10.0;

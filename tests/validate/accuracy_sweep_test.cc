@@ -136,6 +136,18 @@ std::string CalibrationCheckSays(const SessionValidation& validation, const std:
   return says.empty() ? "nothing" : says;
 }
 
+/// One line per checked record (<build>/accuracy_sweep/<scenario>.csv): what the verdict judged and
+/// the bounds it used, to study the accept bounds over scenarios.
+void WriteRecordLine(std::ostream& csv, const std::string& labels, const RecordCheck& r, bool wrong) {
+  const LabelCheck& c = r.check;
+  const ObservedDifference judged = JudgedDifference(c);
+  csv << labels << ',' << r.name << ',' << r.index << ',' << wrong << ',' << ToString(c.verdict) << ','
+      << ToString(c.reason_code) << ',' << c.segicp_reliable << ',' << judged.position_mm << ',' << judged.rotation_deg
+      << ',' << c.precision.position_mm << ',' << c.precision.rotation_deg << ',' << c.accept_position_mm << ','
+      << c.accept_rotation_deg << ',' << c.observability.supported_points << ','
+      << 1e3 * c.observability.residual_rms_m << ',' << c.observability.observable << ',' << r.mode << '\n';
+}
+
 std::string Row(const std::string& scenario, const std::string& object, const ObjectFigures& f) {
   std::string row = "| " + scenario + " | " + object + " | " + std::to_string(f.accepted.n) + " | " +
                     std::to_string(f.bad_input) + " | " + f.accepted.Text() + " | " + f.success.Text();
@@ -153,6 +165,12 @@ TEST_P(AccuracySweep, CorrectLabelsAcceptedAndWrongLabelsFlagged) {
   const fs::path correct_labels = Label("correct", {});
   const auto correct = LabelsByRecord(correct_labels);
   const SessionValidation correct_check = Check(correct_labels);
+  fs::create_directories(fs::path(MOCAP_BINARY_DIR) / "accuracy_sweep");
+  std::ofstream csv(fs::path(MOCAP_BINARY_DIR) / "accuracy_sweep" / (GetParam() + ".csv"));
+  csv << "labels,object,index,wrong,verdict,reason,reliable,judged_mm,judged_deg,precision_mm,precision_deg,"
+         "accept_mm,accept_deg,supported,residual_mm,observable,mode\n";
+  for (const RecordCheck& r : correct_check.records)
+    if (!IsBadInput(r.check.reason_code)) WriteRecordLine(csv, "correct", r, false);
   std::map<std::string, std::string> check_says = {{"correct labels", CalibrationCheckSays(correct_check, objects_)}};
   for (const RecordCheck& r : correct_check.records) {
     for (const std::string& key : {r.name, std::string("all")}) {
@@ -187,6 +205,7 @@ TEST_P(AccuracySweep, CorrectLabelsAcceptedAndWrongLabelsFlagged) {
       if (IsBadInput(r.check.reason_code) || it == correct.end()) continue;
       const Difference d = DifferenceOf(r, it->second);
       if (d.mm < kind.min_error_mm && d.deg < kind.min_error_deg) continue;  // not wrong (latency at rest)
+      WriteRecordLine(csv, kind.name, r, !(d.observable_mm < 0.5 * kind.min_error_mm && d.observable_deg < 0.5 * kind.min_error_deg));
       for (const std::string& key : {r.name, std::string("all")}) {
         if (d.observable_mm < 0.5 * kind.min_error_mm && d.observable_deg < 0.5 * kind.min_error_deg) {
           ++figures[key].hidden[kind.name];
@@ -197,7 +216,6 @@ TEST_P(AccuracySweep, CorrectLabelsAcceptedAndWrongLabelsFlagged) {
     }
   }
 
-  fs::create_directories(fs::path(MOCAP_BINARY_DIR) / "accuracy_sweep");
   std::ofstream md(fs::path(MOCAP_BINARY_DIR) / "accuracy_sweep" / (GetParam() + ".md"));
   for (const auto& [object, f] : figures) {
     const std::string row = Row(GetParam(), object, f);

@@ -138,6 +138,56 @@ TEST(Verdict, RulesFollowTheThresholds) {
   EXPECT_EQ(ToString(c.reason_code), "no_reliable_estimate");
 }
 
+// A hand holding the object puts points a centimetre in front of its surface, inside its mask (the
+// labeller's visibility tolerance is about 2 cm). The robust point-to-plane fit gives them no weight.
+TEST_F(LabelCheckTest, FingersOnTheSurfaceDoNotPullTheEstimate) {
+  const PinholeCamera camera = Kinect();
+  const Eigen::Vector2d centre = *camera.Project(truth_.translation());
+  int fingers = 0;
+  for (int v = static_cast<int>(centre.y()) - 10; v < static_cast<int>(centre.y()) + 40; ++v)
+    for (int u = static_cast<int>(centre.x()) - 40; u < static_cast<int>(centre.x()) + 5; ++u)
+      if (frame_.mask.contains(u, v) && frame_.mask.at(u, v) == 3 && frame_.depth.at(u, v) > 0) {
+        frame_.depth.at(u, v) -= 0.012f;
+        ++fingers;
+      }
+  ASSERT_GT(fingers, 1000);
+  const LabelCheck robust = Check(truth_);
+  EXPECT_EQ(robust.verdict, Verdict::kAccept) << robust.reason;
+  EXPECT_LT(robust.errors.position_mm, 1.5) << robust.reason;
+  EXPECT_LT(robust.errors.rotation_angle_deg, 0.5) << robust.reason;
+  options_.observability.robust_sigmas = 0;  // least squares: the fingers count
+  const LabelCheck plain = Check(truth_);
+  EXPECT_GT(plain.errors.position_mm, robust.errors.position_mm + 0.3) << plain.reason;
+}
+
+// The accept bounds follow the estimate's precision: a precise estimate is held to the floor (the
+// label's own error), an imprecise one gets up to the widest bounds, one without analysis the widest.
+TEST(Verdict, AcceptBoundsFollowTheEstimatesPrecision) {
+  VerdictOptions o;
+  LabelCheck c;
+  c.segicp_reliable = true;
+  c.errors = {4.0, 0.5, 0.5};
+  DecideVerdict(o, &c);
+  EXPECT_EQ(c.verdict, Verdict::kAccept) << c.reason;  // not analysed: the widest bounds
+  EXPECT_DOUBLE_EQ(c.accept_position_mm, 5.0);
+  c.observability.analysed = true;
+  c.observability.information = Eigen::Matrix<double, 6, 1>::Constant(0.3);
+  c.observability.radius_m = 0.05;
+  c.observability.supported_points = 3000;
+  c.observability.residual_rms_m = 0.001;
+  DecideVerdict(o, &c);
+  EXPECT_NEAR(c.accept_position_mm, 1e3 * o.accept_floor_position_m, 0.2);
+  EXPECT_NEAR(c.accept_rotation_deg, o.accept_floor_rotation_deg, 0.1);
+  EXPECT_NE(c.verdict, Verdict::kAccept) << c.reason;  // 4 mm from a precise estimate
+  EXPECT_NE(c.reason.find("accept bounds 2."), std::string::npos) << c.reason;
+  c.observability.supported_points = 60;  // few points, noisy: the bounds widen to their limit
+  c.observability.residual_rms_m = 0.006;
+  DecideVerdict(o, &c);
+  EXPECT_DOUBLE_EQ(c.accept_position_mm, 5.0);
+  EXPECT_GT(c.precision.position_mm, 1.0);
+  EXPECT_EQ(c.verdict, Verdict::kAccept) << c.reason;
+}
+
 TEST(PoseErrors, AreThePapersThree) {
   const Rigid3d a = Rigid3d::FromRvec({0, 0, RadFromDeg(30)}, {0, 0, 1});
   const Rigid3d b = Rigid3d::FromRvec({0, RadFromDeg(40), 0}, {0.003, 0.004, 1});

@@ -215,3 +215,30 @@ TEST(Observability, NoDirectionIsHiddenWhenEverySideConstrainsIt) {
 
 }  // namespace
 }  // namespace mocap
+
+namespace mocap {
+namespace {
+
+// PrecisionOf: sigma^2 = s^2 / (n lambda) per observable direction, unobservable ones left out, and a
+// rotation moves a point away from the analysis centre by its lever arm.
+TEST(Observability, PrecisionFollowsTheNormalEquations) {
+  Observability o;
+  o.analysed = true;
+  o.supported_points = 400;
+  o.residual_rms_m = 0.002;
+  o.radius_m = 0.1;
+  o.information << 0.5, 0.5, 0.5, 0.5, 0.5, 0.5;  // directions: identity, [L w; v]
+  const EstimatePrecision at_centre = PrecisionOf(o, o.center_object, 1.0);
+  // Translation: 3 directions of variance (2 mm)^2 / (400 * 0.5) each.
+  EXPECT_NEAR(at_centre.position_mm, std::sqrt(3.0) * 2.0 / std::sqrt(200.0), 1e-9);
+  EXPECT_NEAR(at_centre.rotation_deg, DegFromRad(std::sqrt(3.0) * 0.002 / std::sqrt(200.0) / 0.1), 1e-9);
+  EXPECT_NEAR(PrecisionOf(o, o.center_object, 4.0).position_mm, 2.0 * at_centre.position_mm, 1e-9);
+  EXPECT_GT(PrecisionOf(o, Eigen::Vector3d(0.3, 0, 0), 1.0).position_mm, at_centre.position_mm);
+  o.judged = {true, true, true, false, false, true};  // two translations unobservable
+  EXPECT_NEAR(PrecisionOf(o, o.center_object, 1.0).position_mm, 2.0 / std::sqrt(200.0), 1e-9);
+  o.analysed = false;
+  EXPECT_EQ(PrecisionOf(o, o.center_object, 1.0).position_mm, 0.0);
+}
+
+}  // namespace
+}  // namespace mocap
