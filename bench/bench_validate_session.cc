@@ -18,7 +18,7 @@
 // truth (the simulated truth/poses.jsonl with --truth, else the label), median and p95.
 //
 // Usage:
-//   bench_validate_session [--out DIR] [--repeat N] CASE...
+//   bench_validate_session [--out DIR] [--repeat N] [--backends segicp,pcl,open3d] CASE...
 //     CASE: --name NAME --session S --labels L [--objects O] [--truth T]
 //   bench_validate_session --make-lmo DIR     LM-O scene 2 imported and labelled, with depth (prints the CASE)
 // The commands that make the cases are in bench/RESULTS.md.
@@ -37,15 +37,13 @@
 
 #include "core/camera.h"
 #include "core/check.h"
-#include "pipeline/json_read.h"
 #include "pipeline/label_run.h"
 #include "pipeline/label_stage.h"
 #include "pipeline/object_library.h"
-#include "pipeline/scoring.h"
 #include "pipeline/validate_stage.h"
 #include "registration_backends.h"
+#include "validate_session_report.h"
 #include "render/mesh.h"
-#include "session/manifest.h"
 #include "session/reader.h"
 #include "validate/point_grid.h"
 #if MOCAP_BENCH_WITH_LMO
@@ -105,53 +103,6 @@ struct Case {
   fs::path session, labels, objects, truth;
 };
 
-/// Median and 95th percentile.
-struct Spread {
-  double median = 0, p95 = 0;
-};
-Spread SpreadOf(const std::vector<double>& v) { return {pipeline::Percentile(v, 50), pipeline::Percentile(v, 95)}; }
-
-struct Row {
-  std::string backend;
-  int64_t records = 0, checked = 0, accepted = 0, estimated = 0;
-  double success_rate = 0, wall_s = 0, cpu_s = 0, point_to_point_s = 0, point_to_plane_s = 0;
-  Spread position_mm, rotation_deg;
-};
-
-/// The true T_camera_mesh per (simulated frame, object name), from a simulated session's truth/poses.jsonl.
-using Truth = std::map<std::pair<int64_t, std::string>, Rigid3d>;
-Truth ReadTruth(const fs::path& truth_dir) {
-  Truth truth;
-  const fs::path file = truth_dir / "poses.jsonl";
-  for (const auto& [where, frame] : pipeline::ReadJsonLines(file))
-    for (const nlohmann::json& o : frame.at("objects"))
-      truth[{frame.at("index").get<int64_t>(), o.at("name").get<std::string>()}] = RigidFromJson(o.at("T_color_mesh"), where);
-  return truth;
-}
-
-/// Estimate errors against the truth (or the label when there is none), over the records with an estimate.
-void ScoreAgainstTruth(const SessionValidation& v, const Case& c, const pipeline::LabelRun& labels, Row* row) {
-  std::map<std::tuple<std::string, int64_t, int>, int64_t> frame_of;  // (camera, index, instance) -> frame
-  for (const pipeline::LabelRecord& r : labels.records) frame_of[{r.camera, r.index, r.instance}] = r.frame;
-  const Truth truth = c.truth.empty() ? Truth() : ReadTruth(c.truth);
-  std::vector<double> position_mm, rotation_deg;
-  for (const RecordCheck& r : v.records) {
-    row->accepted += r.check.verdict == Verdict::kAccept;
-    if (!r.check.estimated) continue;
-    ++row->estimated;
-    Rigid3d reference = r.T_camera_object_label;
-    if (!c.truth.empty()) {
-      const auto it = truth.find({frame_of.at({r.camera, r.index, r.instance}), r.name});
-      if (it == truth.end()) throw InputError(c.truth.string(), Str("has no pose of ", r.name, " at frame ", r.index));
-      reference = it->second;
-    }
-    position_mm.push_back(1e3 * TranslationDistanceM(r.check.T_camera_object_segicp, reference));
-    rotation_deg.push_back(RotationDistanceDeg(r.check.T_camera_object_segicp, reference));
-  }
-  row->position_mm = SpreadOf(position_mm);
-  row->rotation_deg = SpreadOf(rotation_deg);
-}
-
 /// The session check's per-object scene voxel (session_check.cc OptionsFor: a large object gets coarser
 /// crops and voxels so that its crops keep about CropOptions::max_points points).
 double SceneVoxelOf(const ValidationObject& object, const ValidateOptions& o) {
@@ -163,10 +114,7 @@ double SceneVoxelOf(const ValidationObject& object, const ValidateOptions& o) {
   return o.scene_voxel_m * std::max(1.0, std::sqrt(face_m2 / (o.crop.max_points * o.crop.pixel_m * o.crop.pixel_m)));
 }
 
-/// Reading the frames and making the scene clouds, replayed alone on one thread (CPU seconds).
-struct ReplayedSteps {
-  double io_s = 0, scene_cloud_s = 0;
-};
+/// Reading the frames and making the scene clouds, replayed alone on one thread.
 ReplayedSteps ReplaySteps(const Case& c, const pipeline::LabelRun& labels) {
   const SessionReader session = SessionReader::Open(c.session);
   const std::vector<ValidationObject> objects =
@@ -195,8 +143,8 @@ ReplayedSteps ReplaySteps(const Case& c, const pipeline::LabelRun& labels) {
   return steps;
 }
 
-Row RunBackend(const Case& c, const pipeline::LabelRun& labels, const std::shared_ptr<const Registration>& backend,
-               const fs::path& out) {
+BackendRun RunBackend(const Case& c, const pipeline::LabelRun& labels, const std::shared_ptr<const Registration>& backend,
+                      const fs::path& out) {
   // Ours through the same timer: SegIcpRegistration is what the default (null) registration runs.
   const auto timed = std::make_shared<TimedRegistration>(backend ? backend : std::make_shared<SegIcpRegistration>());
   pipeline::ValidateRunRequest request;
@@ -207,50 +155,44 @@ Row RunBackend(const Case& c, const pipeline::LabelRun& labels, const std::share
   const double cpu_start = ProcessCpuS();
   const auto wall_start = std::chrono::steady_clock::now();
   const SessionValidation v = pipeline::RunValidate(request);
-  Row row;
-  row.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
-  row.cpu_s = ProcessCpuS() - cpu_start;
-  row.backend = std::string(timed->name());
-  row.records = static_cast<int64_t>(v.records.size());
-  row.checked = v.summary.records_checked;
-  row.success_rate = v.summary.segicp_success_rate;
-  row.point_to_point_s = timed->point_to_point_s();
-  row.point_to_plane_s = timed->point_to_plane_s();
-  ScoreAgainstTruth(v, c, labels, &row);
-  return row;
+  BackendRun run;
+  run.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  run.cpu_s = ProcessCpuS() - cpu_start;
+  run.backend = std::string(timed->name());
+  run.point_to_point_s = timed->point_to_point_s();
+  run.point_to_plane_s = timed->point_to_plane_s();
+  ScoreRun(v, labels, c.truth, &run);
+  return run;
 }
 
-void Print(const Case& c, const ReplayedSteps& steps, const std::vector<Row>& rows) {
-  std::printf("\n%s: %s (labels %s)\n", c.name.c_str(), c.session.string().c_str(), c.labels.string().c_str());
-  std::printf("| backend | records | records/s | wall s | CPU s | registration (p2p + p2plane) | frames read | scene clouds | rest "
-              "| accepted | SegICP success | position mm median / p95 | rotation deg median / p95 |\n");
-  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
-  for (const Row& r : rows) {
-    const double registration_s = r.point_to_point_s + r.point_to_plane_s;
-    const auto share = [&](double s) { return 100.0 * s / r.cpu_s; };
-    std::printf("| %s | %lld | %.1f | %.2f | %.2f | %.0f %% (%.2f + %.2f s) | %.0f %% | %.0f %% | %.0f %% | %.1f %% | %.1f %% "
-                "| %.2f / %.2f | %.3f / %.3f |\n",
-                r.backend.c_str(), static_cast<long long>(r.records), r.records / r.wall_s, r.wall_s, r.cpu_s,
-                share(registration_s), r.point_to_point_s, r.point_to_plane_s, share(steps.io_s), share(steps.scene_cloud_s),
-                share(r.cpu_s - registration_s - steps.io_s - steps.scene_cloud_s),
-                100.0 * static_cast<double>(r.accepted) / static_cast<double>(std::max<int64_t>(1, r.records)),
-                100.0 * r.success_rate, r.position_mm.median, r.position_mm.p95, r.rotation_deg.median, r.rotation_deg.p95);
-  }
-  for (size_t i = 1; i < rows.size(); ++i)
-    std::printf("%s / %s: wall %.2fx, CPU %.2fx, registration %.2fx\n", rows[i].backend.c_str(), rows[0].backend.c_str(),
-                rows[i].wall_s / rows[0].wall_s, rows[i].cpu_s / rows[0].cpu_s,
-                (rows[i].point_to_point_s + rows[i].point_to_plane_s) / (rows[0].point_to_point_s + rows[0].point_to_plane_s));
-}
-
-std::vector<std::shared_ptr<const Registration>> Backends() {
-  std::vector<std::shared_ptr<const Registration>> backends = {nullptr};  // ours first: the ratios' base
+/// The backends named in `names` (comma-separated), in that order; ours (null) is "segicp".
+std::vector<std::shared_ptr<const Registration>> Backends(const std::string& names) {
+  std::vector<std::shared_ptr<const Registration>> backends;
+  for (size_t begin = 0; begin <= names.size();) {
+    const size_t end = std::min(names.find(',', begin), names.size());
+    const std::string name = names.substr(begin, end - begin);
+    begin = end + 1;
+    if (name == "segicp") backends.push_back(nullptr);
 #if MOCAP_BENCH_WITH_PCL
-  backends.push_back(MakePclRegistration());
+    else if (name == "pcl") backends.push_back(MakePclRegistration());
 #endif
 #if MOCAP_BENCH_WITH_OPEN3D
-  backends.push_back(MakeOpen3dRegistration());
+    else if (name == "open3d") backends.push_back(MakeOpen3dRegistration());
 #endif
+    else throw InputError("--backends", "no backend '" + name + "' in this build");
+  }
   return backends;
+}
+
+std::string AllBackends() {
+  std::string names = "segicp";  // ours first: the base of the ratios
+#if MOCAP_BENCH_WITH_PCL
+  names += ",pcl";
+#endif
+#if MOCAP_BENCH_WITH_OPEN3D
+  names += ",open3d";
+#endif
+  return names;
 }
 
 int MakeLmo(const fs::path& dir) {
@@ -266,7 +208,7 @@ int MakeLmo(const fs::path& dir) {
 }
 
 /// Reads the arguments (see the top of this file); throws InputError on a malformed command line.
-std::vector<Case> ParseCases(int argc, char** argv, fs::path* out, int* repeat) {
+std::vector<Case> ParseCases(int argc, char** argv, fs::path* out, int* repeat, std::string* backends) {
   std::vector<Case> cases;
   for (int i = 1; i < argc; ++i) {
     const std::string flag = argv[i];
@@ -274,6 +216,7 @@ std::vector<Case> ParseCases(int argc, char** argv, fs::path* out, int* repeat) 
     const std::string value = argv[++i];
     if (flag == "--out") *out = value;
     else if (flag == "--repeat") *repeat = std::stoi(value);
+    else if (flag == "--backends") *backends = value;
     else if (flag == "--name") cases.push_back({value, {}, {}, {}, {}});
     else if (cases.empty()) throw InputError(flag, "comes before the first --name");
     else if (flag == "--session") cases.back().session = value;
@@ -292,18 +235,19 @@ int Main(int argc, char** argv) {
   if (argc == 3 && std::string(argv[1]) == "--make-lmo") return MakeLmo(argv[2]);
   fs::path out = fs::temp_directory_path() / "bench_validate_session";
   int repeat = 1;
-  const std::vector<Case> cases = ParseCases(argc, argv, &out, &repeat);
-  const auto backends = Backends();
+  std::string names = AllBackends();
+  const std::vector<Case> cases = ParseCases(argc, argv, &out, &repeat, &names);
+  const auto backends = Backends(names);
   for (const Case& c : cases) {
     const pipeline::LabelRun labels = pipeline::LabelRun::Read(c.labels);
     const ReplayedSteps steps = ReplaySteps(c, labels);
     for (int r = 0; r < repeat; ++r) {
-      std::vector<Row> rows;
+      std::vector<BackendRun> runs;
       for (const auto& backend : backends) {
-        rows.push_back(RunBackend(c, labels, backend, out));
-        std::fprintf(stderr, "%s %s: %.1f s\n", c.name.c_str(), rows.back().backend.c_str(), rows.back().wall_s);
+        runs.push_back(RunBackend(c, labels, backend, out));
+        std::fprintf(stderr, "%s %s: %.1f s\n", c.name.c_str(), runs.back().backend.c_str(), runs.back().wall_s);
       }
-      Print(c, steps, rows);
+      PrintCase(c.name + ": " + c.session.string(), steps, runs);
     }
   }
   return 0;
