@@ -91,6 +91,11 @@ function showBodies(status) {
 let lastEventSeq = 0;
 function showEvents(events) {
   const list = $('#events');
+  // A restarted daemon numbers its events from 1 again: start the list afresh.
+  if (events.length && events[events.length - 1].seq < lastEventSeq) {
+    list.replaceChildren();
+    lastEventSeq = 0;
+  }
   for (const e of events) {
     if (e.seq <= lastEventSeq) continue;
     lastEventSeq = e.seq;
