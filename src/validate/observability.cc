@@ -240,6 +240,7 @@ PlaneRefinement RefinePointToPlane(const ModelCrop& crop, const Rigid3d& T_camer
   const PointCloud normals = NormalsOf(crop, T_camera_object_init, options.normal_radius_m);
   PlaneRefinement out;
   out.T_camera_object = T_camera_object_init;
+  Vector6d weak_moved = Vector6d::Zero();  // along the probed directions, [L w; v] metres
   for (int iteration = 0; iteration < options.refine_iterations; ++iteration) {
     const double gate_m = iteration == 0 ? std::max(first_gate_m, options.support_distance_m) : options.support_distance_m;
     const NormalEquations e = Build(crop.points_model, normals, out.T_camera_object, scene_camera, gate_m, options.max_points,
@@ -259,9 +260,14 @@ PlaneRefinement RefinePointToPlane(const ModelCrop& crop, const Rigid3d& T_camer
       else if (probed_move && information >= kMinProbedInformation)  // only its part the probe found observable
         weak_step -= *probed_move * d * (d.dot(e.b) / information);
     }
-    // Weak directions get a trust region of one probe length per step: their Gauss-Newton step divides
-    // by little information and would otherwise leap on noise.
-    if (weak_step.norm() > options.probe_m) weak_step *= options.probe_m / weak_step.norm();
+    // Weak directions get a trust region of two probe lengths in all: their Gauss-Newton step divides by
+    // little information and would otherwise leap on noise (a table top slid along an edge the probe saw).
+    weak_moved += weak_step;
+    if (weak_moved.norm() > 2 * options.probe_m) {
+      const Vector6d clamped = weak_moved * (2 * options.probe_m / weak_moved.norm());
+      weak_step += clamped - weak_moved;
+      weak_moved = clamped;
+    }
     step += weak_step;
     out.T_camera_object = Moved(out.T_camera_object, step, e.center, e.radius_m);
     out.iterations = iteration + 1;
