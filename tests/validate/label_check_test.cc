@@ -7,18 +7,6 @@
 namespace mocap {
 namespace {
 
-TriangleMesh Box(const Eigen::Vector3d& size) {
-  TriangleMesh mesh;
-  for (int i = 0; i < 8; ++i)
-    mesh.vertices.push_back(
-        Eigen::Vector3d((i & 1) ? 0.5 : -0.5, (i & 2) ? 0.5 : -0.5, (i & 4) ? 0.5 : -0.5).cwiseProduct(size));
-  const int faces[6][4] = {{0, 1, 3, 2}, {4, 6, 7, 5}, {0, 4, 5, 1}, {2, 3, 7, 6}, {0, 2, 6, 4}, {1, 5, 7, 3}};
-  for (const auto& f : faces) {
-    mesh.triangles.push_back({f[0], f[1], f[2]});
-    mesh.triangles.push_back({f[0], f[2], f[3]});
-  }
-  return mesh;
-}
 
 PinholeCamera Kinect() { return PinholeCamera{640, 480, 525, 525, 319.5, 239.5, {}}; }
 
@@ -50,7 +38,7 @@ Frame RenderFrame(const TriangleMesh& mesh, const Rigid3d& T_camera_object, std:
 
 class LabelCheckTest : public ::testing::Test {
  protected:
-  TriangleMesh mesh_ = Box({0.16, 0.06, 0.21});
+  TriangleMesh mesh_ = testing::BoxMesh({0.16, 0.06, 0.21});
   SurfaceCropSource model_ = SurfaceCropSource::FromMesh(mesh_, CropOptions{});
   Rigid3d truth_ = Rigid3d::FromRvec({2.0, 0.3, 0.4}, {0.05, -0.03, 0.85});
   ValidateOptions options_;

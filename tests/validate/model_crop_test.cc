@@ -12,22 +12,9 @@
 namespace mocap {
 namespace {
 
-/// A closed box mesh (12 triangles) centred at the origin.
-TriangleMesh BoxMesh(const Eigen::Vector3d& size_m) {
-  TriangleMesh mesh;
-  for (int i = 0; i < 8; ++i)
-    mesh.vertices.push_back(Eigen::Vector3d((i & 1) ? 0.5 : -0.5, (i & 2) ? 0.5 : -0.5, (i & 4) ? 0.5 : -0.5)
-                                .cwiseProduct(size_m));
-  const int faces[6][4] = {{0, 1, 3, 2}, {4, 6, 7, 5}, {0, 4, 5, 1}, {2, 3, 7, 6}, {0, 2, 6, 4}, {1, 5, 7, 3}};
-  for (const auto& f : faces) {
-    mesh.triangles.push_back({f[0], f[1], f[2]});
-    mesh.triangles.push_back({f[0], f[2], f[3]});
-  }
-  return mesh;
-}
 
 TEST(ModelCrop, ZBufferKeepsOnlyTheFacingSide) {
-  const SurfaceCropSource source = SurfaceCropSource::FromMesh(BoxMesh({0.1, 0.1, 0.1}), CropOptions{});
+  const SurfaceCropSource source = SurfaceCropSource::FromMesh(testing::BoxMesh({0.1, 0.1, 0.1}), CropOptions{});
   // Camera 1 m in front of the z = +5 cm face, looking at it straight on: only that face is visible.
   const Rigid3d T_camera_model = LookAt({0, 0, 1.0}, {0, 0, 0}, {0, 1, 0});
   const ModelCrop crop = source.Crop(T_camera_model);
@@ -59,7 +46,7 @@ PointCloud ReferenceCrop(const PointCloud& surface, const Rigid3d& T_camera_mode
 }
 
 TEST(ModelCrop, DenseAndSparseZBuffersMatchAPlainPerPixelMap) {
-  const TriangleMesh mesh = BoxMesh({0.2, 0.2, 1.0});
+  const TriangleMesh mesh = testing::BoxMesh({0.2, 0.2, 1.0});
   const SurfaceCropSource source = SurfaceCropSource::FromMesh(mesh, CropOptions{});
   // Outside the box (dense z-buffer over the box's projection), and inside it looking down its length
   // (corners behind the camera: the sparse map).
@@ -72,7 +59,7 @@ TEST(ModelCrop, DenseAndSparseZBuffersMatchAPlainPerPixelMap) {
 }
 
 TEST(ModelCrop, MeshCheckRejectsBadIndices) {
-  TriangleMesh mesh = BoxMesh({0.1, 0.1, 0.1});
+  TriangleMesh mesh = testing::BoxMesh({0.1, 0.1, 0.1});
   mesh.triangles.push_back({0, 1, 99});
   EXPECT_THROW(mesh.check(), InputError);
   EXPECT_THROW(TriangleMesh{}.check(), InputError);
@@ -93,7 +80,7 @@ TEST(Acquisition, OptionsCheckRejectsNonsense) {
 
 TEST(Acquisition, ViewSphereFindsABoxPoseWithoutAPrior) {
   // An elongated box (no symmetric ambiguity beyond the box's own 180-degree flips) seen by a camera.
-  const TriangleMesh mesh = BoxMesh({0.16, 0.06, 0.21});
+  const TriangleMesh mesh = testing::BoxMesh({0.16, 0.06, 0.21});
   const SurfaceCropSource source = SurfaceCropSource::FromMesh(mesh, CropOptions{});
   const Rigid3d T_camera_model = Rigid3d::FromRvec({0.9, 0.3, -0.2}, {0.05, -0.02, 0.9});
   const SurfaceCropSource dense = SurfaceCropSource::FromMesh(mesh, CropOptions{.pixel_m = 0.002});

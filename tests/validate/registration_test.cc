@@ -33,29 +33,16 @@ class CountingRegistration final : public Registration {
   SegIcpRegistration own_;
 };
 
-TriangleMesh BoxMesh() {
-  TriangleMesh mesh;
-  const Eigen::Vector3d size(0.16, 0.06, 0.21);
-  for (int i = 0; i < 8; ++i)
-    mesh.vertices.push_back(
-        Eigen::Vector3d((i & 1) ? 0.5 : -0.5, (i & 2) ? 0.5 : -0.5, (i & 4) ? 0.5 : -0.5).cwiseProduct(size));
-  const int faces[6][4] = {{0, 1, 3, 2}, {4, 6, 7, 5}, {0, 4, 5, 1}, {2, 3, 7, 6}, {0, 2, 6, 4}, {1, 5, 7, 3}};
-  for (const auto& f : faces) {
-    mesh.triangles.push_back({f[0], f[1], f[2]});
-    mesh.triangles.push_back({f[0], f[2], f[3]});
-  }
-  return mesh;
-}
 
 /// The box's surface seen by a camera 0.8 m away, with 1 mm noise (camera frame).
 PointCloud SceneOf(const Rigid3d& T_camera_object, uint32_t seed) {
-  const SurfaceCropSource sensor = SurfaceCropSource::FromMesh(BoxMesh(), CropOptions{.pixel_m = 0.002});
+  const SurfaceCropSource sensor = SurfaceCropSource::FromMesh(testing::BoxMesh({0.16, 0.06, 0.21}), CropOptions{.pixel_m = 0.002});
   std::mt19937 rng(seed);
   return testing::AddNoise(Transform(T_camera_object, sensor.Crop(T_camera_object).points_model), rng, 0.001);
 }
 
 TEST(Registration, AcquisitionRegistersEveryHypothesisThroughTheGivenOneAndNullIsOurs) {
-  const SurfaceCropSource model = SurfaceCropSource::FromMesh(BoxMesh(), CropOptions{});
+  const SurfaceCropSource model = SurfaceCropSource::FromMesh(testing::BoxMesh({0.16, 0.06, 0.21}), CropOptions{});
   const Rigid3d T_camera_object = Rigid3d::FromRvec({0.3, -0.2, 0.1}, {0.02, -0.01, 0.8});
   const PointCloud scene = SceneOf(T_camera_object, 1);
   const PointGrid grid(scene);
@@ -75,7 +62,7 @@ TEST(Registration, AcquisitionRegistersEveryHypothesisThroughTheGivenOneAndNullI
 }
 
 TEST(Registration, TrackingStepIsThePointToPlaneCall) {
-  const SurfaceCropSource model = SurfaceCropSource::FromMesh(BoxMesh(), CropOptions{});
+  const SurfaceCropSource model = SurfaceCropSource::FromMesh(testing::BoxMesh({0.16, 0.06, 0.21}), CropOptions{});
   ValidateOptions options;
   const auto counting = std::make_shared<CountingRegistration>();
   options.acquisition.registration = counting;

@@ -4,9 +4,24 @@
 
 #include "core/check.h"
 #include "core/rigid3.h"
+#include "validate/model_crop.h"
 #include "validate/point_cloud.h"
 
 namespace mocap::testing {
+
+/// A closed box mesh (12 triangles) centred at the origin.
+inline TriangleMesh BoxMesh(const Eigen::Vector3d& size_m) {
+  TriangleMesh mesh;
+  for (int i = 0; i < 8; ++i)
+    mesh.vertices.push_back(Eigen::Vector3d((i & 1) ? 0.5 : -0.5, (i & 2) ? 0.5 : -0.5, (i & 4) ? 0.5 : -0.5)
+                                .cwiseProduct(size_m));
+  const int faces[6][4] = {{0, 1, 3, 2}, {4, 6, 7, 5}, {0, 4, 5, 1}, {2, 3, 7, 6}, {0, 2, 6, 4}, {1, 5, 7, 3}};
+  for (const auto& f : faces) {
+    mesh.triangles.push_back({f[0], f[1], f[2]});
+    mesh.triangles.push_back({f[0], f[2], f[3]});
+  }
+  return mesh;
+}
 
 /// Points on the surface of an axis-aligned box centred at the origin, on a grid of `spacing_m`.
 inline PointCloud BoxSurface(const Eigen::Vector3d& size_m, double spacing_m) {

@@ -7,22 +7,9 @@
 namespace mocap {
 namespace {
 
-TriangleMesh BoxMeshForTracking() {
-  TriangleMesh mesh;
-  const Eigen::Vector3d size(0.16, 0.06, 0.21);
-  for (int i = 0; i < 8; ++i)
-    mesh.vertices.push_back(
-        Eigen::Vector3d((i & 1) ? 0.5 : -0.5, (i & 2) ? 0.5 : -0.5, (i & 4) ? 0.5 : -0.5).cwiseProduct(size));
-  const int faces[6][4] = {{0, 1, 3, 2}, {4, 6, 7, 5}, {0, 4, 5, 1}, {2, 3, 7, 6}, {0, 2, 6, 4}, {1, 5, 7, 3}};
-  for (const auto& f : faces) {
-    mesh.triangles.push_back({f[0], f[1], f[2]});
-    mesh.triangles.push_back({f[0], f[2], f[3]});
-  }
-  return mesh;
-}
 
 TEST(ObjectTracker, AcquiresThenTracksAStaticObjectWhileTheCameraMoves) {
-  const TriangleMesh mesh = BoxMeshForTracking();
+  const TriangleMesh mesh = testing::BoxMesh({0.16, 0.06, 0.21});
   const SurfaceCropSource model = SurfaceCropSource::FromMesh(mesh, CropOptions{});
   const SurfaceCropSource sensor = SurfaceCropSource::FromMesh(mesh, CropOptions{.pixel_m = 0.002});
   const Rigid3d T_world_object = Rigid3d::FromRvec({0.2, 0.1, 0.4}, {0.0, 0.0, 0.0});
