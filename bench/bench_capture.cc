@@ -14,6 +14,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <thread>
 
+#include "cpu_time.h"
 #include "capture/daemon/recorder.h"
 #include "capture/daemon/sources.h"
 
@@ -21,12 +22,6 @@ namespace mocap::capture {
 namespace {
 
 namespace fs = std::filesystem;
-
-double ProcessCpuS() {
-  timespec ts{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + ts.tv_nsec * 1e-9;
-}
 
 fs::path FreshSession(const std::string& name) {
   const fs::path dir = fs::temp_directory_path() / ("bench_capture_" + std::to_string(::getpid())) / name;
@@ -55,7 +50,7 @@ void RunRig(benchmark::State& state, double camera_hz, bool camera, double track
     std::vector<CaptureSource*> raw;
     for (auto& s : sources) raw.push_back(s.get());
     recorder = Recorder::Start({.session_dir = dir}, ManifestOf(raw));
-    const double cpu0 = ProcessCpuS();
+    const double cpu0 = bench::ProcessCpuS();
     const auto t0 = std::chrono::steady_clock::now();
     for (auto& s : sources) {
       s->Open();
@@ -65,7 +60,7 @@ void RunRig(benchmark::State& state, double camera_hz, bool camera, double track
     for (auto& s : sources) s->Close();
     const RecorderSummary summary = recorder->Stop();
     const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    const double cpu_s = ProcessCpuS() - cpu0;
+    const double cpu_s = bench::ProcessCpuS() - cpu0;
     state.SetIterationTime(wall_s);
     for (const char* stream : {"cam", "trk"}) {
       if (!summary.streams.count(stream)) continue;

@@ -14,6 +14,7 @@
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
 
+#include "cpu_time.h"
 #include "label/labeller.h"
 #include "tests/pipeline/label_run_testing.h"
 #include "render/primitives.h"
@@ -99,12 +100,6 @@ fs::path WriteBenchSession(const fs::path& dir, std::vector<LabelObject>& object
   return dir / "S";
 }
 
-double ProcessCpuSeconds() {
-  timespec t{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
-}
-
 /// The process's kernel CPU time. Creating files on ext4 without a journal gets slower with every file
 /// deleted in the last minutes (the inode allocator skips recently deleted inodes one by one), so the
 /// same run costs more right after another (bench/RESULTS.md): this separates that from our own code.
@@ -141,9 +136,9 @@ void BM_LabelSession(benchmark::State& state) {
   LabelStageSeconds stages, stages_cpu;
   int64_t frames = 0;
   for (auto _ : state) {
-    const double cpu0 = ProcessCpuSeconds(), system0 = ProcessSystemSeconds();
+    const double cpu0 = bench::ProcessCpuS(), system0 = ProcessSystemSeconds();
     const LabelSummary summary = LabelSession(session, objects, LabelRig{}, options);
-    cpu_seconds += ProcessCpuSeconds() - cpu0;
+    cpu_seconds += bench::ProcessCpuS() - cpu0;
     system_seconds += ProcessSystemSeconds() - system0;
     seconds += summary.seconds;
     setup_seconds += summary.setup_seconds;

@@ -10,6 +10,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <string>
 
+#include "cpu_time.h"
 #include "session/image_io.h"
 #include "session/reader.h"
 #include "session/writer.h"
@@ -58,12 +59,6 @@ SessionManifest Manifest() {
   return manifest;
 }
 
-double ProcessCpuS() {
-  timespec ts{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + static_cast<double>(ts.tv_nsec) * 1e-9;
-}
-
 fs::path FreshDir(const std::string& name) {
   const fs::path dir = fs::temp_directory_path() / ("mocap_bench_" + std::to_string(::getpid()) + "_" + name);
   fs::remove_all(dir);
@@ -81,7 +76,7 @@ void BM_WriteRgbdFrames(benchmark::State& state) {
   options.png_compression = static_cast<int>(state.range(3));
   const fs::path dir = FreshDir("write");
   int64_t written = 0;
-  const double cpu_start_s = ProcessCpuS();
+  const double cpu_start_s = bench::ProcessCpuS();
   {
     auto writer = SessionWriter::Create(dir, Manifest(), options);
     for (auto _ : state) {
@@ -95,7 +90,7 @@ void BM_WriteRgbdFrames(benchmark::State& state) {
   state.SetItemsProcessed(written);
   // CPU seconds per frame over all threads: on a shared, loaded machine the wall rate understates what
   // two free cores do; cores / cpu_per_frame is the rate two idle cores would reach.
-  const double cpu_per_frame_s = (ProcessCpuS() - cpu_start_s) / static_cast<double>(written);
+  const double cpu_per_frame_s = (bench::ProcessCpuS() - cpu_start_s) / static_cast<double>(written);
   state.counters["cpu_ms_per_frame"] = cpu_per_frame_s * 1e3;
   state.counters["fps_2_idle_cores"] = 2.0 / cpu_per_frame_s;
   fs::remove_all(dir);

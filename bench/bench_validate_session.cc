@@ -42,6 +42,7 @@
 #include "pipeline/object_library.h"
 #include "pipeline/validate_stage.h"
 #include "registration_backends.h"
+#include "cpu_time.h"
 #include "validate_session_report.h"
 #include "render/mesh.h"
 #include "session/reader.h"
@@ -54,19 +55,6 @@ namespace mocap::bench {
 namespace {
 
 namespace fs = std::filesystem;
-
-double ThreadCpuS() {
-  timespec t{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
-}
-
-double ProcessCpuS() {
-  rusage u{};
-  getrusage(RUSAGE_SELF, &u);
-  const auto s = [](const timeval& t) { return static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_usec); };
-  return s(u.ru_utime) + s(u.ru_stime);
-}
 
 /// A backend with the CPU time of every call added up (each on its own thread's clock).
 class TimedRegistration final : public Registration {

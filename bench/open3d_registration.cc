@@ -96,7 +96,7 @@ class Open3dRegistration final : public Registration {
 
   IcpResult PointToPoint(const PointCloud& source_model, const PointGrid& scene_camera, const Rigid3d& T_camera_model_init,
                          const IcpOptions& options) const override {
-    if (source_model.empty() || scene_camera.size() == 0) return Unmoved(T_camera_model_init);
+    if (source_model.empty() || scene_camera.size() == 0) return UnmovedResult(T_camera_model_init);
     const auto scene = points_.Get(scene_camera, [](const PointGrid& g) { return BuildScene(g, 0.0); });
     o3d::geometry::PointCloud source;
     source.points_ = source_model;
@@ -106,7 +106,7 @@ class Open3dRegistration final : public Registration {
 
   IcpResult PointToPlane(const ModelCrop& crop, const PointGrid& scene_camera, const Rigid3d& T_camera_model_init,
                          const ObservabilityOptions& options, double first_gate_m) const override {
-    if (crop.points_model.empty() || scene_camera.size() == 0) return Unmoved(T_camera_model_init);
+    if (crop.points_model.empty() || scene_camera.size() == 0) return UnmovedResult(T_camera_model_init);
     const double radius_m = options.normal_radius_m;
     const auto scene = with_normals_.Get(scene_camera, [radius_m](const PointGrid& g) { return BuildScene(g, radius_m); });
     o3d::geometry::PointCloud source;
@@ -117,11 +117,6 @@ class Open3dRegistration final : public Registration {
   }
 
  private:
-  static IcpResult Unmoved(const Rigid3d& T) {
-    IcpResult r;
-    r.T_target_source = T;
-    return r;
-  }
 
   SceneIndexCache<Open3dScene> points_;
   SceneIndexCache<Open3dScene> with_normals_;

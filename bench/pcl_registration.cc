@@ -95,7 +95,7 @@ class PclRegistration final : public Registration {
 
   IcpResult PointToPoint(const PointCloud& source_model, const PointGrid& scene_camera, const Rigid3d& T_camera_model_init,
                          const IcpOptions& options) const override {
-    if (source_model.empty() || scene_camera.size() == 0) return Unmoved(T_camera_model_init);
+    if (source_model.empty() || scene_camera.size() == 0) return UnmovedResult(T_camera_model_init);
     const auto scene = points_.Get(scene_camera, BuildPoints);
     auto source = pcl::make_shared<pcl::PointCloud<pcl::PointXYZ>>();
     source->reserve(source_model.size());
@@ -112,10 +112,10 @@ class PclRegistration final : public Registration {
 
   IcpResult PointToPlane(const ModelCrop& crop, const PointGrid& scene_camera, const Rigid3d& T_camera_model_init,
                          const ObservabilityOptions& options, double first_gate_m) const override {
-    if (crop.points_model.empty() || scene_camera.size() == 0) return Unmoved(T_camera_model_init);
+    if (crop.points_model.empty() || scene_camera.size() == 0) return UnmovedResult(T_camera_model_init);
     const double radius_m = options.normal_radius_m;
     const auto scene = with_normals_.Get(scene_camera, [radius_m](const PointGrid& g) { return BuildWithNormals(g, radius_m); });
-    if (scene->cloud->size() < 3) return Unmoved(T_camera_model_init);
+    if (scene->cloud->size() < 3) return UnmovedResult(T_camera_model_init);
     auto source = pcl::make_shared<pcl::PointCloud<pcl::PointNormal>>();
     const bool has_normals = crop.normals_model.size() == crop.points_model.size();
     const size_t stride = PointToPlaneStride(crop.points_model.size(), options.max_points);
@@ -136,11 +136,6 @@ class PclRegistration final : public Registration {
   }
 
  private:
-  static IcpResult Unmoved(const Rigid3d& T) {
-    IcpResult r;
-    r.T_target_source = T;
-    return r;
-  }
   template <typename Icp>
   static void Configure(Icp& icp, double gate_m, int max_iterations, double translation_epsilon_m, double rotation_epsilon_deg) {
     icp.setMaxCorrespondenceDistance(gate_m);

@@ -35,6 +35,13 @@ inline size_t PointToPlaneStride(size_t n, int max_points) {
   return std::max<size_t>(1, (n + static_cast<size_t>(max_points) - 1) / static_cast<size_t>(max_points));
 }
 
+/// The result of a registration that could not run (no source or scene points): the start, unmoved.
+inline IcpResult UnmovedResult(const Rigid3d& T_init) {
+  IcpResult r;
+  r.T_target_source = T_init;
+  return r;
+}
+
 /// A float-precision 4x4 rigid transform back to Rigid3d, its rotation re-orthonormalised.
 inline Rigid3d RigidFromMatrix(const Eigen::Matrix4d& T) {
   const Eigen::Quaterniond q(Eigen::Matrix3d(T.topLeftCorner<3, 3>()));
