@@ -32,12 +32,10 @@ void ScoreEstimate(const Rigid3d& label, const ValidateOptions& options, LabelCh
 /// pass moves only along strong directions.
 void PolishProbedDirections(const PointGrid& grid, const CropSource& model, const ValidateOptions& options,
                             LabelCheck* check) {
-  const Observability& o = check->observability;
-  bool probed = false;
-  for (int k = 0; k < 6; ++k) probed |= o.analysed && o.judged[k] && o.probe_loss[k] >= 0;
-  if (!probed) return;
+  if (!HasProbedDirections(check->observability)) return;
   const ModelCrop crop = model.Crop(check->T_camera_object_segicp);
-  const PlaneRefinement refined = RefinePointToPlane(crop, check->T_camera_object_segicp, grid, options.observability, 0.0, &o);
+  const PlaneRefinement refined =
+      RefinePointToPlane(crop, check->T_camera_object_segicp, grid, options.observability, 0.0, &check->observability);
   if (refined.iterations == 0) return;
   // No score guard: the score counts clutter within tau as support (fingers on a held bottle), which the
   // robust fit rightly ignores, so a better pose can score a few hundredths lower.

@@ -3,8 +3,8 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
-#include <optional>
 #include <cstdio>
+#include <optional>
 
 #include "core/check.h"
 #include "validate/crop_cache.h"
@@ -222,16 +222,23 @@ namespace {
 /// The projector onto the directions `probed` found observable by the probe alone (weak information,
 /// but moving along them loses the outline's support): a body nearly of revolution, such as a bottle,
 /// is told apart from its turned self by a few features, so its spin is weak yet observable.
+bool IsProbedDirection(const Observability& o, int k) { return o.analysed && o.judged[k] && o.probe_loss[k] >= 0; }
+
 std::optional<Matrix6d> ProbedProjector(const Observability* probed) {
-  if (!probed || !probed->analysed) return std::nullopt;
+  if (!probed || !HasProbedDirections(*probed)) return std::nullopt;
   Matrix6d P = Matrix6d::Zero();
   for (int k = 0; k < 6; ++k)
-    if (probed->judged[k] && probed->probe_loss[k] >= 0) P += probed->directions.col(k) * probed->directions.col(k).transpose();
-  if (P.isZero()) return std::nullopt;
+    if (IsProbedDirection(*probed, k)) P += probed->directions.col(k) * probed->directions.col(k).transpose();
   return P;
 }
 
 }  // namespace
+
+bool HasProbedDirections(const Observability& o) {
+  for (int k = 0; k < 6; ++k)
+    if (IsProbedDirection(o, k)) return true;
+  return false;
+}
 
 PlaneRefinement RefinePointToPlane(const ModelCrop& crop, const Rigid3d& T_camera_object_init,
                                    const PointGrid& scene_camera, const ObservabilityOptions& options,

@@ -92,6 +92,11 @@ PlaneRefinement RefinePointToPlane(const ModelCrop& crop, const Rigid3d& T_camer
                                    const PointGrid& scene_camera, const ObservabilityOptions& options,
                                    double first_gate_m = 0.0, const Observability* probed = nullptr);
 
+/// True when the probe, not the normals, made some direction of `o` observable (its information is weak
+/// but moving along it loses the outline's support): those are the ones RefinePointToPlane's `probed`
+/// pass moves along.
+bool HasProbedDirections(const Observability& o);
+
 /// Sets `observable` and the `unobservable` sentences from `judged` and `directions` (after the
 /// directions were expressed in another object frame, as ApplySymmetry does).
 void SummariseObservability(Observability* o);
