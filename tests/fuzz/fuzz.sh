@@ -71,6 +71,8 @@ stale() {
 
 # Compiles one source into its object unless that is newer than the source, every header its depfile
 # lists and the compile flags.
+# Temporary names carry the shell's pid: ctest runs several `run NAME` at once, and each rebuilds what
+# is stale, so two may compile the same shared source (src/core/text.cc) at the same time.
 compile() {
   local source=$1 object deps=()
   object=$(object_of "$source")
@@ -81,9 +83,9 @@ compile() {
   echo "fuzz.sh: compiling $source" >&2
   "$clang" -std=c++20 -O1 -gline-tables-only -fno-omit-frame-pointer -fsanitize=fuzzer-no-link,address,undefined \
     -fno-sanitize-recover=undefined -w @"$fuzz_dir/compile_flags.rsp" -I"$source_dir/tests/fuzz" \
-    -MMD -MF "$object.d.tmp" -c "$source_dir/$source" -o "$object.tmp"
-  mv "$object.tmp" "$object"
-  mv "$object.d.tmp" "$object.d"
+    -MMD -MF "$object.d.tmp.$$" -c "$source_dir/$source" -o "$object.tmp.$$"
+  mv "$object.tmp.$$" "$object"
+  mv "$object.d.tmp.$$" "$object.d"
 }
 
 # Links a fuzzer unless it is newer than its objects, link_libs.rsp and the libraries that lists.
@@ -93,8 +95,8 @@ link() {
   read -r -a libs <<< "$(grep -E '^/.*\.(a|so[.0-9]*)$' "$fuzz_dir/link_libs.rsp" | tr '\n' ' ')"
   stale "$fuzzer" "${objects[@]}" "$fuzz_dir/link_libs.rsp" "${libs[@]}" || return 0
   echo "fuzz.sh: linking fuzz_$name" >&2
-  "$clang" -fsanitize=fuzzer,address,undefined "${objects[@]}" @"$fuzz_dir/link_libs.rsp" -o "$fuzzer.tmp"
-  mv "$fuzzer.tmp" "$fuzzer"
+  "$clang" -fsanitize=fuzzer,address,undefined "${objects[@]}" @"$fuzz_dir/link_libs.rsp" -o "$fuzzer.tmp.$$"
+  mv "$fuzzer.tmp.$$" "$fuzzer"
 }
 
 build() {
