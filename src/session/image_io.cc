@@ -99,6 +99,10 @@ DepthImage ReadDepthExr(const fs::path& path) {
 
 }  // namespace
 
+bool IsWholeJpeg(const std::vector<uint8_t>& bytes) {
+  return StartsWith(bytes, {0xFF, 0xD8, 0xFF}) && EndsWith(bytes, {0xFF, 0xD9});
+}
+
 std::vector<uint8_t> EncodeColor(const cv::Mat& color, const std::string& extension, int png_compression,
                                  int jpeg_quality) {
   MOCAP_CHECK(color.type() == CV_8UC3 || color.type() == CV_8UC1, "colour must be CV_8UC3 or CV_8UC1");

@@ -22,6 +22,10 @@ std::vector<uint8_t> EncodeDepthPng(const cv::Mat& depth, double depth_unit_m, i
 /// Writes a float OpenEXR depth file (channel "Z", metres; CV_16UC1 input is scaled by depth_unit_m).
 void WriteDepthExr(const std::filesystem::path& path, const cv::Mat& depth, double depth_unit_m);
 
+/// True when `bytes` look like a whole JPEG: the start-of-image marker (FF D8 FF) first and the
+/// end-of-image marker (FF D9) last. What a writer checks before storing encoded colour as it is.
+bool IsWholeJpeg(const std::vector<uint8_t>& bytes);
+
 /// Colour as CV_8UC3 BGR. Throws InputError naming the file when absent, truncated or not an image.
 cv::Mat ReadColor(const std::filesystem::path& path);
 /// Depth in metres (0 = invalid): a 16-bit PNG scaled by depth_unit_m, or an OpenEXR "Z" channel.

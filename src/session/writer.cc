@@ -271,11 +271,38 @@ int64_t SessionWriter::records_written() const {
 
 void SessionWriter::WriteCameraFrame(const std::string& camera, const CameraFrameRecord& record, const cv::Mat& color,
                                      const cv::Mat& depth) {
-  const CameraStreamInfo* info = impl_->manifest.FindCamera(camera);
-  if (!info) throw InputError(camera, "no such camera in the session manifest");
-  if (color.empty() && depth.empty()) throw InputError(camera, Str("frame ", record.frame, " has no image"));
   if (!color.empty() && color.type() != CV_8UC3 && color.type() != CV_8UC1)
     throw InputError(camera, Str("frame ", record.frame, ": colour must be 8-bit BGR or grey"));
+  const SessionWriterOptions& options = impl_->options;
+  const std::string color_ext = options.color_encoding == ColorEncoding::kJpeg ? ".jpg" : ".png";
+  ColorFileWriter write_color;
+  if (!color.empty())
+    write_color = [color = color.clone(), color_ext, options](const fs::path& temp) {
+      const auto bytes = EncodeColor(color, color_ext, options.png_compression, options.jpeg_quality);
+      WriteFileRemovingOnFailure(temp, {reinterpret_cast<const char*>(bytes.data()), bytes.size()}, options.sync_images);
+    };
+  SubmitCameraFrame(camera, record, color_ext, std::move(write_color), depth);
+}
+
+void SessionWriter::WriteCameraFrameJpeg(const std::string& camera, const CameraFrameRecord& record,
+                                         std::shared_ptr<const std::vector<uint8_t>> color_jpeg, const cv::Mat& depth) {
+  ColorFileWriter write_color;
+  if (color_jpeg && !color_jpeg->empty()) {
+    if (!IsWholeJpeg(*color_jpeg))
+      throw InputError(camera, Str("frame ", record.frame, ": the colour is not a whole JPEG (no start-of-image or end-of-image marker, ",
+                                   color_jpeg->size(), " bytes)"));
+    write_color = [jpeg = std::move(color_jpeg), sync = impl_->options.sync_images](const fs::path& temp) {
+      WriteFileRemovingOnFailure(temp, {reinterpret_cast<const char*>(jpeg->data()), jpeg->size()}, sync);
+    };
+  }
+  SubmitCameraFrame(camera, record, ".jpg", std::move(write_color), depth);
+}
+
+void SessionWriter::SubmitCameraFrame(const std::string& camera, const CameraFrameRecord& record,
+                                      const std::string& color_ext, ColorFileWriter write_color, const cv::Mat& depth) {
+  const CameraStreamInfo* info = impl_->manifest.FindCamera(camera);
+  if (!info) throw InputError(camera, "no such camera in the session manifest");
+  if (!write_color && depth.empty()) throw InputError(camera, Str("frame ", record.frame, " has no image"));
   if (!depth.empty() && depth.type() != CV_16UC1 && depth.type() != CV_32FC1)
     throw InputError(camera, Str("frame ", record.frame, ": depth must be CV_16UC1 or CV_32FC1"));
   auto job = std::make_shared<Job>();
@@ -288,17 +315,15 @@ void SessionWriter::WriteCameraFrame(const std::string& camera, const CameraFram
   }
   const fs::path camera_dir = impl_->dir / "cameras" / camera;
   const SessionWriterOptions options = impl_->options;
-  const std::string color_ext = options.color_encoding == ColorEncoding::kJpeg ? ".jpg" : ".png";
   const std::string depth_ext = options.depth_encoding == DepthEncoding::kExr ? ".exr" : ".png";
   CameraFrameRecord out = record;
-  out.color_file = color.empty() ? "" : "color/" + FrameFileStem(index) + color_ext;
+  out.color_file = write_color ? "color/" + FrameFileStem(index) + color_ext : "";
   out.depth_file = depth.empty() ? "" : "depth/" + FrameFileStem(index) + depth_ext;
-  job->work = [out, camera_dir, options, color = color.clone(), depth = depth.clone(), unit = info->depth_unit_m,
-               color_ext, depth_ext]() {
-    if (!color.empty()) {
+  job->work = [out, camera_dir, options, write_color = std::move(write_color), depth = depth.clone(),
+               unit = info->depth_unit_m, depth_ext]() {
+    if (write_color) {
       const fs::path path = camera_dir / out.color_file, temp = fs::path(path).concat(".tmp");
-      const auto bytes = EncodeColor(color, color_ext, options.png_compression, options.jpeg_quality);
-      WriteFileRemovingOnFailure(temp, {reinterpret_cast<const char*>(bytes.data()), bytes.size()}, options.sync_images);
+      write_color(temp);
       RenameIntoPlace(temp, path);
     }
     if (!depth.empty()) {

@@ -13,9 +13,11 @@
 // Errors of background encoding are raised by the next Write*/Close call.
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <opencv2/core/mat.hpp>
 #include <string>
+#include <vector>
 
 #include "core/clock.h"
 #include "session/manifest.h"
@@ -61,6 +63,12 @@ class SessionWriter {
   /// The writer fills record.color_file / depth_file.
   void WriteCameraFrame(const std::string& camera, const CameraFrameRecord& record, const cv::Mat& color,
                         const cv::Mat& depth);
+  /// The same for colour that arrives encoded as JPEG (a Kinect v2 sends its colour so): the bytes are
+  /// stored as they are (color/NNNNNN.jpg), never decoded or re-encoded; `color_jpeg` is shared, not
+  /// copied. It must be a whole JPEG (SOI at its start, EOI at its end), else InputError; either it or
+  /// `depth` may be empty, not both. Readers decode it like any JPEG colour (ReadColor).
+  void WriteCameraFrameJpeg(const std::string& camera, const CameraFrameRecord& record,
+                            std::shared_ptr<const std::vector<uint8_t>> color_jpeg, const cv::Mat& depth);
   /// For importers: registers already-encoded image files (PNG/JPEG colour; 16-bit PNG or EXR depth)
   /// without decoding them. They are hard-linked into the session when possible, else copied. An empty
   /// path means no such image. A source path that does not exist is recorded as listed (the file name is
@@ -81,6 +89,10 @@ class SessionWriter {
 
  private:
   struct Impl;
+  /// Writes the colour file of a frame to the given temporary path (null: the frame has no colour).
+  using ColorFileWriter = std::function<void(const std::filesystem::path& temp)>;
+  void SubmitCameraFrame(const std::string& camera, const CameraFrameRecord& record, const std::string& color_ext,
+                         ColorFileWriter write_color, const cv::Mat& depth);
   explicit SessionWriter(std::unique_ptr<Impl> impl);
   std::unique_ptr<Impl> impl_;
 };
