@@ -31,17 +31,8 @@ class Kinect1Source final : public CaptureSource {
 
   StreamInfo stream_info() const override {
     std::lock_guard lock(mutex_);
-    CameraStreamInfo info;
-    info.name = name();
-    info.model = "kinect1";
-    info.serial = options_.device.camera_serial;
-    info.depth_camera = depth_camera_;
-    info.color_camera = options_.color_camera.value_or(depth_camera_);
-    info.depth_registered_to_color = registered_;
-    info.depth_unit_m = 0.001;  // RgbdFrame::depth_mm
-    info.camera_body = options_.camera_body;
-    info.T_body_camera = options_.T_body_camera;
-    return info;
+    return KinectStreamInfo({name(), "kinect1", options_.device.camera_serial, options_.color_camera.value_or(depth_camera_),
+                             depth_camera_, registered_, options_.camera_body, options_.T_body_camera});
   }
 
   nlohmann::json device_status() const override {

@@ -5,6 +5,8 @@
 
 #include <chrono>
 
+#include <opencv2/imgcodecs.hpp>
+
 #include "core/check.h"
 #include "core/log.h"
 
@@ -48,7 +50,7 @@ LiveView::~LiveView() {
 }
 
 void LiveView::OnFrame(const CapturedFrame& frame) {
-  if (frame.color.empty() || options_.thumbnail_rate_hz <= 0) return;
+  if (!frame.has_color() || options_.thumbnail_rate_hz <= 0) return;
   const int64_t now_ns = MonotonicNowNs();
   const auto period_ns = static_cast<int64_t>(1e9 / options_.thumbnail_rate_hz);
   std::lock_guard lock(mutex_);
@@ -56,7 +58,7 @@ void LiveView::OnFrame(const CapturedFrame& frame) {
   if (last != 0 && now_ns - last < period_ns) return;
   last = now_ns;
   auto& picked = picked_[frame.camera];
-  picked.push_back({frame.record, frame.color, now_ns});  // shares the image; nobody writes into it
+  picked.push_back({frame.record, frame.color, frame.color_jpeg, now_ns});  // shares the image; nobody writes into it
   if (picked.size() > kPickedKept) picked.pop_front();
 }
 
@@ -119,7 +121,14 @@ std::map<std::string, std::vector<TrackerRecord>> LiveView::RecentSamples() cons
   return out;
 }
 
+// JPEG colour (a Kinect v2's, recorded as it came) is decoded here, on the view's low-priority thread, a
+// few times a second: the recording path never decodes it.
 void LiveView::MakeThumbnail(const std::string& camera, const Picked& picked) {
+  cv::Mat color = picked.color;
+  if (color.empty()) {
+    color = cv::imdecode(*picked.color_jpeg, cv::IMREAD_COLOR);
+    if (color.empty()) throw InputError(Str("camera ", camera, " frame ", picked.record.frame), "its JPEG colour does not decode");
+  }
   std::optional<FrameLabels> labels;
   std::string label_error;
   if (labeller_) {
@@ -132,12 +141,12 @@ void LiveView::MakeThumbnail(const std::string& camera, const Picked& picked) {
   std::shared_ptr<Thumbnail> thumbnail;
   try {
     thumbnail = std::make_shared<Thumbnail>(
-        EncodeThumbnail(picked.color, labels ? &*labels : nullptr, options_.thumbnail_width_px, options_.jpeg_quality));
+        EncodeThumbnail(color, labels ? &*labels : nullptr, options_.thumbnail_width_px, options_.jpeg_quality));
   } catch (const InputError& e) {  // labels that do not fit the frame (a rig with other intrinsics)
     if (!labels) throw;
     label_error = e.what();
     thumbnail = std::make_shared<Thumbnail>(
-        EncodeThumbnail(picked.color, nullptr, options_.thumbnail_width_px, options_.jpeg_quality));
+        EncodeThumbnail(color, nullptr, options_.thumbnail_width_px, options_.jpeg_quality));
   }
   thumbnail->camera = camera;
   thumbnail->frame = picked.record.frame;

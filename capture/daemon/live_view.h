@@ -102,7 +102,8 @@ class LiveView {
  private:
   struct Picked {
     CameraFrameRecord record;
-    cv::Mat color;
+    cv::Mat color;  ///< or, for colour that came as JPEG, empty and decoded on the view's thread:
+    std::shared_ptr<const std::vector<uint8_t>> color_jpeg;
     int64_t arrived_ns = 0;
   };
   void Loop();

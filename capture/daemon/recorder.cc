@@ -1,5 +1,7 @@
 #include "capture/daemon/recorder.h"
 
+#include <algorithm>
+
 #include "core/check.h"
 #include "core/log.h"
 
@@ -27,9 +29,13 @@ std::unique_ptr<Recorder> Recorder::Start(const RecorderOptions& options, const 
   options.check();
   auto writer = SessionWriter::Create(options.session_dir, manifest, options.writer);
   std::unique_ptr<Recorder> recorder(new Recorder(options, std::move(writer)));
-  for (const auto& camera : manifest.cameras) recorder->streams_[camera.name];
+  for (const auto& camera : manifest.cameras) {
+    recorder->streams_[camera.name];
+    recorder->frames_[camera.name] = std::make_unique<BoundedQueue<CapturedFrame>>(static_cast<size_t>(options.frame_queue));
+  }
   for (const auto& tracker : manifest.trackers) recorder->streams_[tracker.name];
-  recorder->frame_thread_ = std::thread([r = recorder.get()] { r->FrameLoop(); });
+  for (auto& [camera, queue] : recorder->frames_)
+    recorder->frame_threads_.emplace_back([r = recorder.get(), name = camera, q = queue.get()] { r->FrameLoop(name, *q); });
   recorder->record_thread_ = std::thread([r = recorder.get()] { r->RecordLoop(); });
   return recorder;
 }
@@ -37,7 +43,6 @@ std::unique_ptr<Recorder> Recorder::Start(const RecorderOptions& options, const 
 Recorder::Recorder(const RecorderOptions& options, std::unique_ptr<SessionWriter> writer)
     : options_(options),
       writer_(std::move(writer)),
-      frames_(static_cast<size_t>(options.frame_queue)),
       records_(static_cast<size_t>(options.sample_queue)),
       start_ns_(MonotonicNowNs()) {}
 
@@ -52,7 +57,24 @@ void Recorder::PushFrame(CapturedFrame&& frame) {
     std::lock_guard lock(mutex_);
     ++counters(camera).received;
   }
-  if (!frames_.TryPush(std::move(frame))) CountDrop(camera, stamp_ns);
+  const auto queue = frames_.find(camera);
+  if (queue == frames_.end()) {  // the writer would refuse it: as a write error, it stops the session
+    Fail("camera '" + camera + "' is not in the session manifest");
+    CountDrop(camera, stamp_ns);
+    return;
+  }
+  if (!queue->second->TryPush(std::move(frame))) CountDrop(camera, stamp_ns);
+}
+
+size_t Recorder::frame_queue_depth() const {
+  size_t depth = 0;
+  for (const auto& [camera, queue] : frames_) depth += queue->size();
+  return depth;
+}
+
+size_t Recorder::frame_queue_depth(const std::string& camera) const {
+  const auto queue = frames_.find(camera);
+  return queue == frames_.end() ? 0 : queue->second->size();
 }
 
 void Recorder::PushSample(CapturedSample&& sample) {
@@ -112,25 +134,30 @@ void Recorder::Fail(const std::string& message) {
   Log().error("capture: session {} stopped: {}", options_.session_dir.string(), message);
 }
 
-void Recorder::FrameLoop() {
-  while (std::optional<CapturedFrame> frame = frames_.Pop()) {
+void Recorder::WriteFrame(CapturedFrame& frame) {
+  if (frame.color_jpeg) writer_->WriteCameraFrameJpeg(frame.camera, frame.record, frame.color_jpeg, frame.depth);
+  else writer_->WriteCameraFrame(frame.camera, frame.record, frame.color, frame.depth);
+}
+
+void Recorder::FrameLoop(const std::string& camera, BoundedQueue<CapturedFrame>& queue) {
+  while (std::optional<CapturedFrame> frame = queue.Pop()) {
     if (failed_) {  // the session stopped on a write error: what is still queued is not written
       std::lock_guard lock(mutex_);
-      ++counters(frame->camera).dropped;
+      ++counters(camera).dropped;
       continue;
     }
     try {
-      writer_->WriteCameraFrame(frame->camera, frame->record, frame->color, frame->depth);
+      WriteFrame(*frame);
       {
         std::lock_guard lock(mutex_);
-        ++counters(frame->camera).written;
-        if (frame->record.device_ticks != 0) clocks_.Add(frame->camera, frame->record.device_ticks, frame->record.stamp_ns);
+        ++counters(camera).written;
+        if (frame->record.device_ticks != 0) clocks_.Add(camera, frame->record.device_ticks, frame->record.stamp_ns);
       }
       FlushDropEvents(false);
     } catch (const std::exception& e) {
       Fail(e.what());
       std::lock_guard lock(mutex_);
-      ++counters(frame->camera).dropped;
+      ++counters(camera).dropped;
     }
   }
 }
@@ -173,9 +200,10 @@ RecorderSummary Recorder::Stop() {
     stopped_ = true;
   }
   if (already_stopped) return Snapshot();
-  frames_.Stop();
+  for (auto& [camera, queue] : frames_) queue->Stop();
   records_.Stop();
-  if (frame_thread_.joinable()) frame_thread_.join();
+  for (std::thread& thread : frame_threads_) thread.join();
+  frame_threads_.clear();
   if (record_thread_.joinable()) record_thread_.join();
   try {
     FlushDropEvents(true);
@@ -214,8 +242,19 @@ std::optional<std::string> Recorder::error() const {
   return error_;
 }
 
+// "frames" sums the cameras' queues (depth and capacity; the highest peak); "cameras" has each one.
 nlohmann::json Recorder::QueueStatus() const {
-  return {{"frames", {{"depth", frames_.size()}, {"high_water", frames_.high_water()}, {"capacity", frames_.capacity()}}},
+  nlohmann::json cameras = nlohmann::json::object();
+  size_t depth = 0, high_water = 0, capacity = 0;
+  for (const auto& [camera, queue] : frames_) {
+    const size_t d = queue->size(), h = queue->high_water(), c = queue->capacity();
+    cameras[camera] = {{"depth", d}, {"high_water", h}, {"capacity", c}};
+    depth += d;
+    high_water = std::max(high_water, h);
+    capacity += c;
+  }
+  return {{"frames", {{"depth", depth}, {"high_water", high_water}, {"capacity", capacity}}},
+          {"cameras", cameras},
           {"records", {{"depth", records_.size()}, {"high_water", records_.high_water()}, {"capacity", records_.capacity()}}}};
 }
 

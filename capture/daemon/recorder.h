@@ -1,7 +1,9 @@
 #pragma once
 // Records one session from any producers: the public in-process API of the capture pipeline (used by
 // the daemon, the benchmark and the simulated rig). Producers push into bounded queues (PushFrame /
-// PushSample / PushEvent, never blocking); one writer thread per queue hands the items to the
+// PushSample / PushEvent, never blocking): one frame queue per camera of the manifest, so a camera whose
+// frames cost more to encode (PNG colour) never makes another (JPEG colour as it came) drop, and one
+// queue for tracker samples and events; one writer thread per queue hands the items to the
 // SessionWriter (src/session/writer.h). When a queue is full the item is dropped, counted per stream
 // and logged as a "drop" event (at most one per stream per drop_event_interval_ms, with the count):
 // never silently. A write error (a full disk, EIO) stops the session: nothing more is written, the
@@ -23,6 +25,7 @@
 #include <string>
 #include <thread>
 #include <variant>
+#include <vector>
 
 #include "capture/daemon/bounded_queue.h"
 #include "capture/daemon/clock_samples.h"
@@ -33,7 +36,7 @@ namespace mocap::capture {
 
 struct RecorderOptions {
   std::filesystem::path session_dir;  ///< created; must not exist or be empty
-  int frame_queue = 32;      ///< camera frames waiting for the writer (RGB-D 640x480: ~1.5 MB each)
+  int frame_queue = 32;      ///< camera frames waiting for the writer, per camera (RGB-D 640x480: ~1.5 MB each)
   int sample_queue = 8192;   ///< tracker samples and events waiting (one sample per body per tracker frame)
   int drop_event_interval_ms = 1000;  ///< at most one "drop" event per stream per interval
   SessionWriterOptions writer{};
@@ -78,14 +81,17 @@ class Recorder final : public CaptureSink {
   /// The error that stopped the session, if one did.
   std::optional<std::string> error() const;
   bool failed() const { return failed_.load(); }
-  size_t frame_queue_depth() const { return frames_.size(); }
+  /// Frames queued for all cameras, or for one (0 for a camera not in the manifest).
+  size_t frame_queue_depth() const;
+  size_t frame_queue_depth(const std::string& camera) const;
   size_t sample_queue_depth() const { return records_.size(); }
   nlohmann::json QueueStatus() const;
 
  private:
   using RecordItem = std::variant<CapturedSample, EventRecord>;
   Recorder(const RecorderOptions& options, std::unique_ptr<SessionWriter> writer);
-  void FrameLoop();
+  void FrameLoop(const std::string& camera, BoundedQueue<CapturedFrame>& queue);
+  void WriteFrame(CapturedFrame& frame);
   void RecordLoop();
   void WriteRecord(RecordItem& item);
   void FlushDropEvents(bool final_flush);
@@ -95,9 +101,10 @@ class Recorder final : public CaptureSink {
 
   RecorderOptions options_;
   std::unique_ptr<SessionWriter> writer_;
-  BoundedQueue<CapturedFrame> frames_;
+  std::map<std::string, std::unique_ptr<BoundedQueue<CapturedFrame>>> frames_;  // per camera; fixed at Start
   BoundedQueue<RecordItem> records_;
-  std::thread frame_thread_, record_thread_;
+  std::vector<std::thread> frame_threads_;
+  std::thread record_thread_;
   mutable std::mutex mutex_;  // guards everything below
   std::map<std::string, StreamCounters> streams_;
   ClockSamples clocks_;

@@ -2,6 +2,7 @@
 #include <thread>
 
 #include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
 
 #include "capture/daemon/sources.h"
 #include "core/check.h"
@@ -10,9 +11,23 @@ namespace mocap::capture {
 
 void SimulatedCameraOptions::check() const {
   if (stream.empty()) throw InputError("SimulatedCameraOptions.stream", "is empty");
+  if (model.empty()) throw InputError("SimulatedCameraOptions.model", "is empty");
   if (width < 1 || height < 1) throw InputError("SimulatedCameraOptions.width/height", "must be positive");
+  if (depth_width < 0 || depth_height < 0 || (depth_width == 0) != (depth_height == 0))
+    throw InputError("SimulatedCameraOptions.depth_width/height", "must both be positive, or both 0 (the colour's size)");
+  if (jpeg_quality < 1 || jpeg_quality > 100) throw InputError("SimulatedCameraOptions.jpeg_quality", "must be in 1..100");
+  if (!(ticks_per_second > 0)) throw InputError("SimulatedCameraOptions.ticks_per_second", "must be positive");
   if (rate_hz < 0) throw InputError("SimulatedCameraOptions.rate_hz", "must be >= 0 (0: unthrottled)");
   if (max_frames < 0) throw InputError("SimulatedCameraOptions.max_frames", "must be >= 0");
+}
+
+SimulatedCameraOptions SimulatedKinect1(const std::string& stream) {
+  return {.stream = stream, .model = "kinect1", .width = 640, .height = 480, .ticks_per_second = 60e6, .rate_hz = 30};
+}
+
+SimulatedCameraOptions SimulatedKinect2(const std::string& stream) {
+  return {.stream = stream, .model = "kinect2", .width = 1920, .height = 1080, .depth_width = 512, .depth_height = 424,
+          .color_jpeg = true, .ticks_per_second = 8000, .rate_hz = 30};
 }
 
 void SimulatedTrackerOptions::check() const {
@@ -78,7 +93,8 @@ class PacedSource : public CaptureSource {
 
 // A test pattern whose content changes from frame to frame (smooth gradients, low noise and a moving
 // bar, so PNG encoding costs roughly what camera images cost) and a depth ramp in millimetres. A ring of
-// patterns is drawn once; each frame is a copy, as a driver copies its USB buffers.
+// patterns is drawn (and, for JPEG colour, encoded) once; each frame is a copy, as a driver copies its
+// USB buffers, except JPEG bytes, which are shared: nothing writes into them.
 class SimulatedCamera final : public PacedSource {
  public:
   static constexpr int kPatterns = 8;
@@ -86,6 +102,10 @@ class SimulatedCamera final : public PacedSource {
   SimulatedCamera(const SimulatedCameraOptions& o, ReadyFn ready)
       : PacedSource(o.stream, o.rate_hz, o.max_frames, std::move(ready)), options_(o) {
     options_.check();
+    if (options_.depth_width == 0) {
+      options_.depth_width = options_.width;
+      options_.depth_height = options_.height;
+    }
     for (int k = 0; k < kPatterns; ++k) DrawPattern(k);
   }
   ~SimulatedCamera() override { Close(); }
@@ -93,46 +113,66 @@ class SimulatedCamera final : public PacedSource {
   StreamInfo stream_info() const override {
     CameraStreamInfo info;
     info.name = name();
-    info.model = "sim";
-    const double f = 525.0 * options_.width / 640.0;
-    info.color_camera = {options_.width, options_.height, f, f, (options_.width - 1) / 2.0, (options_.height - 1) / 2.0, {}};
-    info.depth_camera = info.color_camera;
-    info.depth_registered_to_color = true;
+    info.model = options_.model;
+    info.color_camera = NominalCamera(options_.width, options_.height, 525.0 / 640.0);
+    info.depth_registered_to_color = options_.depth_width == options_.width && options_.depth_height == options_.height;
+    // An unregistered depth camera (a Kinect v2's ToF sensor) sees wider: 365 px focal length at 512 px.
+    info.depth_camera = info.depth_registered_to_color
+                            ? info.color_camera
+                            : NominalCamera(options_.depth_width, options_.depth_height, 365.0 / 512.0);
     info.depth_unit_m = 0.001;
     return info;
   }
 
  private:
+  static PinholeCamera NominalCamera(int width, int height, double focal_per_px) {
+    const double f = focal_per_px * width;
+    return {width, height, f, f, (width - 1) / 2.0, (height - 1) / 2.0, {}};
+  }
+
   void DrawPattern(int k) {
-    cv::Mat color(options_.height, options_.width, CV_8UC3), depth(options_.height, options_.width, CV_16UC1);
-    cv::randu(color, 0, 24);
+    cv::Mat color(options_.height, options_.width, CV_8UC3);
+    cv::RNG rng(static_cast<uint64_t>(k) + 1);  // the same ring in every run
+    rng.fill(color, cv::RNG::UNIFORM, 0, 24);
     const int bar = k * options_.width / kPatterns;
     for (int v = 0; v < options_.height; ++v) {
       auto* bgr = color.ptr<cv::Vec3b>(v);
-      auto* mm = depth.ptr<uint16_t>(v);
-      for (int u = 0; u < options_.width; ++u) {
-        const bool on_bar = std::abs(u - bar) < 20;
-        bgr[u] += cv::Vec3b(static_cast<uint8_t>(u / 3), static_cast<uint8_t>(v / 2), on_bar ? 200 : 0);
-        mm[u] = static_cast<uint16_t>(on_bar ? 800 : 1500 + v);
-      }
+      for (int u = 0; u < options_.width; ++u)
+        bgr[u] += cv::Vec3b(static_cast<uint8_t>(u / 3), static_cast<uint8_t>(v / 2), std::abs(u - bar) < 20 ? 200 : 0);
     }
-    colors_.push_back(color);
+    cv::Mat depth(options_.depth_height, options_.depth_width, CV_16UC1);
+    const int depth_bar = k * options_.depth_width / kPatterns;
+    for (int v = 0; v < options_.depth_height; ++v) {
+      auto* mm = depth.ptr<uint16_t>(v);
+      for (int u = 0; u < options_.depth_width; ++u) mm[u] = static_cast<uint16_t>(std::abs(u - depth_bar) < 8 ? 800 : 1500 + v);
+    }
+    if (options_.color_jpeg) {
+      auto jpeg = std::make_shared<std::vector<uint8_t>>();
+      MOCAP_CHECK(cv::imencode(".jpg", color, *jpeg, {cv::IMWRITE_JPEG_QUALITY, options_.jpeg_quality}), "JPEG encoding failed");
+      jpegs_.push_back(std::move(jpeg));
+    } else {
+      colors_.push_back(color);
+    }
     depths_.push_back(depth);
   }
 
   void Produce(int64_t index, int64_t stamp_ns, CaptureSink* sink) override {
+    const auto k = static_cast<size_t>(index % kPatterns);
+    const double rate_hz = options_.rate_hz > 0 ? options_.rate_hz : 30.0;
     CapturedFrame frame;
     frame.camera = name();
     frame.record.frame = index;
-    frame.record.device_ticks = index * 2'000'000;  // a 60 MHz counter at 30 Hz
+    frame.record.device_ticks = std::llround(static_cast<double>(index) * options_.ticks_per_second / rate_hz);
     frame.record.stamp_ns = stamp_ns;
-    frame.color = colors_[static_cast<size_t>(index % kPatterns)].clone();
-    frame.depth = depths_[static_cast<size_t>(index % kPatterns)].clone();
+    if (options_.color_jpeg) frame.color_jpeg = jpegs_[k];
+    else frame.color = colors_[k].clone();
+    frame.depth = depths_[k].clone();
     sink->PushFrame(std::move(frame));
   }
 
   SimulatedCameraOptions options_;
   std::vector<cv::Mat> colors_, depths_;
+  std::vector<std::shared_ptr<const std::vector<uint8_t>>> jpegs_;
 };
 
 class SimulatedTracker final : public PacedSource {

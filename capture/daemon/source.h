@@ -16,6 +16,7 @@
 #include <opencv2/core/mat.hpp>
 #include <string>
 #include <variant>
+#include <vector>
 
 #include "capture/kinect/camera_device.h"
 #include "session/manifest.h"
@@ -23,12 +24,16 @@
 
 namespace mocap::capture {
 
-/// One camera record with its images, as handed to the session writer. `color` is CV_8UC3 BGR (or
-/// empty); `depth` is CV_16UC1 in the stream's depth_unit_m or CV_32FC1 metres (or empty); not both empty.
+/// One camera record with its images, as handed to the session writer. Colour is either `color`
+/// (CV_8UC3 BGR, encoded by the writer) or `color_jpeg` (JPEG as the device sent it, a Kinect v2's:
+/// stored byte for byte, never decoded on the recording path), or neither; `depth` is CV_16UC1 in the
+/// stream's depth_unit_m or CV_32FC1 metres (or empty). A record carries at least one image.
 struct CapturedFrame {
   std::string camera;  ///< stream name (CameraStreamInfo::name)
   CameraFrameRecord record;
   cv::Mat color, depth;
+  std::shared_ptr<const std::vector<uint8_t>> color_jpeg{};  ///< shared: the live view keeps a reference
+  bool has_color() const { return !color.empty() || (color_jpeg && !color_jpeg->empty()); }
 };
 
 /// One body of one tracker frame.

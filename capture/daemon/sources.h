@@ -17,9 +17,11 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <variant>
 
 #include "capture/daemon/source.h"
 #include "capture/kinect/kinect1_device.h"
+#include "capture/kinect/kinect2_support.h"
 #include "capture/ndi/client.h"
 #include "core/camera.h"
 #include "core/rigid3.h"
@@ -38,6 +40,41 @@ struct Kinect1SourceOptions {
   void check() const;
 };
 std::unique_ptr<CaptureSource> CreateKinect1Source(const Kinect1SourceOptions& options);
+
+/// Kinect2 (libfreenect2, capture/kinect/kinect2_support.h; a DeviceError at Open where this build has
+/// no libfreenect2): one record per colour + depth pair as libfreenect2's SyncMultiFrameListener hands
+/// them over, stamped with the colour image's receive time and ticks (the labelled image). Colour that
+/// arrives as JPEG is recorded as it came; colour that libfreenect2 decoded (its stock pipelines) is
+/// encoded to JPEG here, on the device thread (a 1080p PNG per frame would not keep up with 30 Hz).
+/// When the stream ends (unplugged) an "error" event says so; the device is not reopened.
+struct Kinect2SourceOptions {
+  std::string stream = "kinect2";  ///< camera stream name in the session
+  Kinect2Options device;
+  std::optional<PinholeCamera> color_camera;  ///< calibrated colour intrinsics (else the device's)
+  std::string camera_body;                    ///< tracker body carrying the camera ("" if none)
+  Rigid3d T_body_camera;                      ///< mount: colour optical frame into the body frame
+  int jpeg_quality = 95;                      ///< for colour that libfreenect2 hands over decoded
+  void check() const;
+};
+std::unique_ptr<CaptureSource> CreateKinect2Source(const Kinect2SourceOptions& options);
+
+/// A Kinect's manifest entry: its images as the device gives them (depth in mm) and the rig's mount.
+struct KinectStream {
+  std::string name, model, serial;
+  PinholeCamera color_camera, depth_camera;
+  bool registered = false;
+  std::string camera_body;
+  Rigid3d T_body_camera;
+};
+CameraStreamInfo KinectStreamInfo(const KinectStream& kinect);
+
+/// A camera of the rig's `capture:` section.
+using CameraSourceOptions = std::variant<Kinect1SourceOptions, Kinect2SourceOptions>;
+const std::string& StreamOf(const CameraSourceOptions& camera);
+std::unique_ptr<CaptureSource> CreateCameraSource(const CameraSourceOptions& camera);
+/// Puts the rig's calibration of the camera (cameras[] of the same name) into its options.
+void SetCalibration(CameraSourceOptions& camera, const std::optional<PinholeCamera>& color_camera,
+                    const std::string& camera_body, const Rigid3d& T_body_camera);
 
 struct NdiSourceOptions {
   std::string stream = "ndi";     ///< tracker stream name in the session
@@ -58,11 +95,22 @@ std::unique_ptr<CaptureSource> CreateNdiSource(const NdiSourceOptions& options);
 /// reports back-pressure (`ready`) is waited for instead of overrun.
 struct SimulatedCameraOptions {
   std::string stream = "simcam";
-  int width = 640, height = 480;
+  std::string model = "sim";      ///< the manifest's model (SimulatedKinect1/2 set "kinect1"/"kinect2")
+  int width = 640, height = 480;  ///< colour
+  int depth_width = 0, depth_height = 0;  ///< 0: the colour's size, registered to it (as a Kinect1's)
+  /// Colour handed over as JPEG bytes, as a Kinect v2 sends it (each pattern is encoded once, at
+  /// construction), so the recording path stores it without encoding; else BGR pixels.
+  bool color_jpeg = false;
+  int jpeg_quality = 90;              ///< of those JPEGs (a Kinect v2's are about 150-400 kB at 1080p)
+  double ticks_per_second = 60e6;     ///< device clock: Kinect1 60 MHz, Kinect2 8000 (0.125 ms)
   double rate_hz = 30;
   int64_t max_frames = 0;  ///< 0: until stopped
   void check() const;
 };
+/// A Kinect v1 (640x480 RGB and registered depth, 60 MHz ticks) and a Kinect v2 at its full sizes
+/// (1920x1080 JPEG colour and 512x424 depth in one record, 0.125 ms ticks), both at 30 Hz.
+SimulatedCameraOptions SimulatedKinect1(const std::string& stream);
+SimulatedCameraOptions SimulatedKinect2(const std::string& stream);
 struct SimulatedTrackerOptions {
   std::string stream = "simtracker";
   int bodies = 2;

@@ -9,10 +9,12 @@
 #include <condition_variable>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include <opencv2/core.hpp>
 
@@ -42,7 +44,10 @@ struct TiltSample {
 /// One colour + depth pair as delivered to the daemon. Device units are converted here, at the edge.
 struct RgbdFrame {
   int64_t sequence = 0;  ///< 0-based count of frames delivered since Start()
-  cv::Mat bgr;           ///< CV_8UC3 (Kinect1 640x480, Kinect2 1920x1080)
+  cv::Mat bgr;           ///< CV_8UC3 (Kinect1 640x480, Kinect2 1920x1080), or empty with color_jpeg
+  /// Kinect2 colour as the device sent it (JPEG), where libfreenect2 hands it over undecoded (a pipeline
+  /// with its DumpRgbPacketProcessor: Frame::Raw); then `bgr` is empty and nothing decodes it here.
+  std::shared_ptr<const std::vector<uint8_t>> color_jpeg{};
   cv::Mat depth_mm;      ///< CV_16UC1 millimetres, 0 = no value (Kinect1 640x480, Kinect2 512x424)
   bool depth_registered = false;  ///< depth pixel (u, v) belongs to colour pixel (u, v)
   /// Intrinsics of the image depth_mm is in (the colour camera when registered). Where they come from

@@ -1,5 +1,6 @@
-// Kinect2 through libfreenect2 (compiled only when CMake found libfreenect2). Colour 1920x1080 BGRX and
-// depth 512x424 float mm arrive together from a SyncMultiFrameListener; depth is mapped into the colour
+// Kinect2 through libfreenect2 (compiled only when CMake found libfreenect2). Colour 1920x1080 BGRX (or
+// the device's JPEG, where the pipeline hands it over undecoded) and depth 512x424 float mm arrive
+// together from a SyncMultiFrameListener; depth is mapped into the colour
 // image by libfreenect2's Registration ("bigdepth", 1920x1082 with a blank first and last row) when
 // registered_depth is on. The frame timestamp counts 0.125 ms (8000 ticks/s), converted to ns at the edge.
 #include <libfreenect2/frame_listener_impl.h>
@@ -110,9 +111,17 @@ class Kinect2Device final : public CameraDevice {
   void Emit(const libfreenect2::Frame* color, const libfreenect2::Frame* depth) {
     RgbdFrame frame;
     frame.color_host_ns = frame.depth_host_ns = MonotonicNowNs();
-    const cv::Mat colorx(static_cast<int>(color->height), static_cast<int>(color->width), CV_8UC4, color->data);
-    cv::cvtColor(colorx, frame.bgr, color->format == libfreenect2::Frame::RGBX ? cv::COLOR_RGBA2BGR : cv::COLOR_BGRA2BGR);
-    if (options_.registered_depth) {
+    if (color->format == libfreenect2::Frame::Raw) {
+      // Undecoded colour (DumpRgbPacketProcessor): the device's JPEG, its length in bytes_per_pixel
+      // (libfreenect2 rgb_packet_processor.cpp), cut at its end-of-image marker by the stream parser.
+      frame.color_jpeg = std::make_shared<const std::vector<uint8_t>>(color->data, color->data + color->bytes_per_pixel);
+    } else {
+      const cv::Mat colorx(static_cast<int>(color->height), static_cast<int>(color->width), CV_8UC4, color->data);
+      cv::cvtColor(colorx, frame.bgr, color->format == libfreenect2::Frame::RGBX ? cv::COLOR_RGBA2BGR : cv::COLOR_BGRA2BGR);
+    }
+    // Registration reads the decoded colour frame (Registration::apply returns at once for a Raw one):
+    // with JPEG colour the depth stays in the 512x424 IR camera.
+    if (options_.registered_depth && !frame.color_jpeg) {
       libfreenect2::Frame undistorted(512, 424, 4), registered(512, 424, 4), bigdepth(1920, 1082, 4);
       registration_->apply(color, depth, &undistorted, &registered, true, &bigdepth);
       // Row 0 and row 1081 of bigdepth are padding; rows 1..1080 line up with the colour image.

@@ -94,7 +94,7 @@ int RunDaemon(const fs::path& rig_path, const std::optional<fs::path>& sessions,
 
   std::vector<std::unique_ptr<capture::CaptureSource>> sources;
   if (rig.tracker) sources.push_back(capture::CreateNdiSource(*rig.tracker));
-  if (rig.camera) sources.push_back(capture::CreateKinect1Source(*rig.camera));
+  for (const capture::CameraSourceOptions& camera : rig.cameras) sources.push_back(capture::CreateCameraSource(camera));
   capture::CaptureDaemon daemon(rig.daemon, std::move(sources));
   capture::ControlServer server(daemon, rig.control);
   const AddressFileGuard address_file(rig.daemon.sessions_dir, {rig.control.bind, server.port(), ::getpid()});

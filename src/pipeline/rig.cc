@@ -68,19 +68,28 @@ capture::NdiSourceOptions ParseTracker(const YamlDoc& doc, const YAML::Node& nod
   return t;
 }
 
-capture::Kinect1SourceOptions ParseCaptureCamera(const YamlDoc& doc, const YAML::Node& node) {
-  const YamlMap map(doc, node, "capture.camera", {"name", "model", "index", "serial"});
-  capture::Kinect1SourceOptions c;
+capture::CameraSourceOptions ParseCaptureCamera(const YamlDoc& doc, const YAML::Node& node, const std::string& what) {
+  const YamlMap map(doc, node, what, {"name", "model", "index", "serial", "pipeline"});
   const std::string model = map.Get<std::string>("model", "kinect1");
-  if (model != "kinect1") map.Fail("model", Str("'", model, "': only kinect1 is supported by the daemon"));
+  if (model == "kinect2") {
+    capture::Kinect2SourceOptions c;
+    c.stream = map.Get<std::string>("name", c.stream);
+    c.device.serial = map.Get<std::string>("serial", "");
+    c.device.pipeline = map.Get<std::string>("pipeline", "");
+    if (map.Has("index")) map.Fail("index", "a Kinect2 is chosen by serial: (libfreenect2 has no index)");
+    return c;
+  }
+  if (model != "kinect1") map.Fail("model", Str("'", model, "': the daemon drives kinect1 and kinect2"));
+  capture::Kinect1SourceOptions c;
   c.stream = map.Get<std::string>("name", c.stream);
   c.device.device_index = map.Get<int>("index", 0);
   c.device.camera_serial = map.Get<std::string>("serial", "");
+  if (map.Has("pipeline")) map.Fail("pipeline", "is for kinect2 (libfreenect2's packet pipeline)");
   return c;
 }
 
 RigCapture ParseCapture(const YamlDoc& doc, const YAML::Node& node) {
-  const YamlMap map(doc, node, "capture", {"sessions_dir", "control", "frame_queue", "sample_queue", "tracker", "camera"});
+  const YamlMap map(doc, node, "capture", {"sessions_dir", "control", "frame_queue", "sample_queue", "tracker", "camera", "cameras"});
   RigCapture c;
   c.sessions_dir = map.Get<std::string>("sessions_dir", c.sessions_dir);
   if (map.Has("control")) {
@@ -93,8 +102,20 @@ RigCapture ParseCapture(const YamlDoc& doc, const YAML::Node& node) {
   if (c.frame_queue < 1) map.Fail("frame_queue", "must be >= 1");
   if (c.sample_queue < 1) map.Fail("sample_queue", "must be >= 1");
   if (map.Has("tracker")) c.tracker = ParseTracker(doc, map["tracker"]);
-  if (map.Has("camera")) c.camera = ParseCaptureCamera(doc, map["camera"]);
-  if (!c.tracker && !c.camera) throw InputError(map.Where(), "capture: names neither a tracker nor a camera");
+  if (map.Has("camera") && map.Has("cameras")) map.Fail("cameras", "give either camera: (one) or cameras: (a list), not both");
+  if (map.Has("camera")) c.cameras.push_back(ParseCaptureCamera(doc, map["camera"], "capture.camera"));
+  if (map.Has("cameras")) {
+    if (!map["cameras"].IsSequence() || map["cameras"].size() == 0) map.Fail("cameras", "must be a list of cameras");
+    for (size_t i = 0; i < map["cameras"].size(); ++i)
+      c.cameras.push_back(ParseCaptureCamera(doc, map["cameras"][i], Str("capture camera ", i + 1)));
+  }
+  std::set<std::string> names;
+  if (c.tracker) names.insert(c.tracker->stream);
+  for (const auto& camera : c.cameras)
+    if (!names.insert(capture::StreamOf(camera)).second)
+      map.Fail(map.Has("cameras") ? "cameras" : "camera",
+               Str("stream name '", capture::StreamOf(camera), "' is used twice: give each camera its own name"));
+  if (!c.tracker && c.cameras.empty()) throw InputError(map.Where(), "capture: names neither a tracker nor a camera");
   return c;
 }
 
@@ -151,14 +172,11 @@ CaptureOptions CaptureOptionsOf(const Rig& rig) {
   out.control.bind = c.control.bind;
   out.control.port = c.control.port;
   out.tracker = c.tracker;
-  out.camera = c.camera;
-  if (out.camera) {
-    if (const RigCameraCalibration* calibrated = rig.Find(out.camera->stream)) {
-      out.camera->color_camera = calibrated->intrinsics;
-      out.camera->camera_body = calibrated->body.value_or("");
-      out.camera->T_body_camera = calibrated->T_body_camera.value_or(Rigid3d());
-    }
-  }
+  out.cameras = c.cameras;
+  for (capture::CameraSourceOptions& camera : out.cameras)
+    if (const RigCameraCalibration* calibrated = rig.Find(capture::StreamOf(camera)))
+      capture::SetCalibration(camera, calibrated->intrinsics, calibrated->body.value_or(""),
+                              calibrated->T_body_camera.value_or(Rigid3d()));
   return out;
 }
 

@@ -32,7 +32,8 @@ struct RigCapture {
   int frame_queue = capture::RecorderOptions{}.frame_queue;
   int sample_queue = capture::RecorderOptions{}.sample_queue;
   std::optional<capture::NdiSourceOptions> tracker;
-  std::optional<capture::Kinect1SourceOptions> camera;  ///< calibration filled in by CaptureOptionsOf
+  /// `camera:` (one) or `cameras:` (a list), in the order given; calibration filled in by CaptureOptionsOf.
+  std::vector<capture::CameraSourceOptions> cameras;
 };
 
 struct Rig {
@@ -66,7 +67,7 @@ struct CaptureOptions {
   capture::CaptureDaemonOptions daemon;
   capture::ControlServerOptions control;
   std::optional<capture::NdiSourceOptions> tracker;
-  std::optional<capture::Kinect1SourceOptions> camera;
+  std::vector<capture::CameraSourceOptions> cameras;
 };
 CaptureOptions CaptureOptionsOf(const Rig& rig);
 

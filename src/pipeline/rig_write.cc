@@ -46,6 +46,23 @@ void EmitTracker(YAML::Emitter& out, const capture::NdiSourceOptions& t) {
   out << YAML::EndMap;
 }
 
+void EmitCaptureCamera(YAML::Emitter& out, const capture::CameraSourceOptions& camera) {
+  out << YAML::BeginMap << YAML::Key << "name" << YAML::Value << capture::StreamOf(camera);
+  if (const auto* k2 = std::get_if<capture::Kinect2SourceOptions>(&camera)) {
+    out << YAML::Key << "model" << YAML::Value << "kinect2";
+    if (!k2->device.serial.empty()) out << YAML::Key << "serial" << YAML::Value << k2->device.serial;
+    if (!k2->device.pipeline.empty()) out << YAML::Key << "pipeline" << YAML::Value << k2->device.pipeline;
+  } else {
+    const auto& k1 = std::get<capture::Kinect1SourceOptions>(camera);
+    out << YAML::Key << "model" << YAML::Value << "kinect1";
+    if (k1.device.camera_serial.empty())
+      out << YAML::Key << "index" << YAML::Value << k1.device.device_index;
+    else
+      out << YAML::Key << "serial" << YAML::Value << k1.device.camera_serial;
+  }
+  out << YAML::EndMap;
+}
+
 void EmitCapture(YAML::Emitter& out, const RigCapture& c) {
   out << YAML::BeginMap << YAML::Key << "sessions_dir" << YAML::Value << c.sessions_dir;
   out << YAML::Key << "control" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key << "bind" << YAML::Value
@@ -56,14 +73,14 @@ void EmitCapture(YAML::Emitter& out, const RigCapture& c) {
     out << YAML::Key << "tracker" << YAML::Value;
     EmitTracker(out, *c.tracker);
   }
-  if (c.camera) {
-    out << YAML::Key << "camera" << YAML::Value << YAML::BeginMap << YAML::Key << "name" << YAML::Value << c.camera->stream
-        << YAML::Key << "model" << YAML::Value << "kinect1";
-    if (c.camera->device.camera_serial.empty())
-      out << YAML::Key << "index" << YAML::Value << c.camera->device.device_index;
-    else
-      out << YAML::Key << "serial" << YAML::Value << c.camera->device.camera_serial;
-    out << YAML::EndMap;
+  // One camera as `camera:` (as rigs were written before lists), several as `cameras:`.
+  if (c.cameras.size() == 1) {
+    out << YAML::Key << "camera" << YAML::Value;
+    EmitCaptureCamera(out, c.cameras.front());
+  } else if (!c.cameras.empty()) {
+    out << YAML::Key << "cameras" << YAML::Value << YAML::BeginSeq;
+    for (const capture::CameraSourceOptions& camera : c.cameras) EmitCaptureCamera(out, camera);
+    out << YAML::EndSeq;
   }
   out << YAML::EndMap;
 }

@@ -64,10 +64,10 @@ TEST(Recorder, RecordsSimulatedSourcesWithoutDrops) {
   for (int64_t i = 0; i < 20; ++i) EXPECT_EQ(reader.frame("cam", i).record.frame, i);
   EXPECT_EQ(reader.LoadColor("cam", 19).cols, 160);
   EXPECT_EQ(reader.BodyRecords("trk", "body2").size(), 200u);
-  // Each device clock fitted onto the host clock: 2e6 ticks per 10 ms frame, one tracker frame per ms.
+  // Each device clock fitted onto the host clock: a 60 MHz counter (a Kinect1's), one tracker frame per ms.
   const auto& fits = reader.manifest().clock_fits;
   ASSERT_TRUE(fits.count("cam") && fits.count("trk"));
-  EXPECT_NEAR(fits.at("cam").ns_per_tick, 10e6 / 2e6, 0.1 * 5) << "paced at 100 Hz; late wake-ups are outliers";
+  EXPECT_NEAR(fits.at("cam").ns_per_tick, 1e9 / 60e6, 0.1 * 1e9 / 60e6) << "paced at 100 Hz; late wake-ups are outliers";
   EXPECT_EQ(fits.at("cam").samples, 19) << "frame 0 has no device time";
   EXPECT_NEAR(fits.at("trk").ns_per_tick, 1e6, 0.1 * 1e6);
   EXPECT_EQ(fits.at("trk").samples, 199) << "one pair per tracker frame, not per body";

@@ -84,7 +84,7 @@ TEST(Rig, WrittenAndReadBackIsTheSameRig) {
   EXPECT_EQ(again.capture->tracker->client.host, "10.0.0.5");
   EXPECT_EQ(again.capture->tracker->client.tools.at(0).rom_path, "w.rom");
   EXPECT_TRUE(again.capture->tracker->replay);
-  EXPECT_EQ(again.capture->camera->device.device_index, 1);
+  EXPECT_EQ(std::get<capture::Kinect1SourceOptions>(again.capture->cameras.at(0)).device.device_index, 1);
 }
 
 TEST(Rig, ADepthToColourExtrinsicReadsWritesAndReachesTheLabellersView) {
@@ -108,8 +108,8 @@ TEST(Rig, ViewsCarryTheCalibration) {
   EXPECT_EQ(*label.Find("kinect1")->body, "camera_body");
   const pipeline::CaptureOptions capture = pipeline::CaptureOptionsOf(rig);
   EXPECT_EQ(capture.daemon.sessions_dir, dir / "sessions");
-  EXPECT_EQ(capture.camera->camera_body, "camera_body");
-  EXPECT_EQ(capture.camera->color_camera->fx, 517.3);
+  EXPECT_EQ(std::get<capture::Kinect1SourceOptions>(capture.cameras.at(0)).camera_body, "camera_body");
+  EXPECT_EQ(std::get<capture::Kinect1SourceOptions>(capture.cameras.at(0)).color_camera->fx, 517.3);
   // The shipped example rig reads.
   EXPECT_NO_THROW(pipeline::ReadRig(fs::path(MOCAP_SOURCE_DIR) / "calib/example_rig.yaml"));
   fs::remove_all(dir);

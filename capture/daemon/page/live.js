@@ -67,8 +67,11 @@ function showStreams(status) {
     ]);
   }
   const q = status.queues;
-  $('#queues').textContent = q ? `queues: frames ${q.frames.depth}/${q.frames.capacity} (peak ${q.frames.high_water}), ` +
-      `records ${q.records.depth}/${q.records.capacity} (peak ${q.records.high_water})` : 'queues: not recording';
+  // One frame queue per camera, so a rig with two cameras shows which one falls behind.
+  const fill = (name, x) => `${name} ${x.depth}/${x.capacity} (peak ${x.high_water})`;
+  const frames = q && q.cameras ? Object.entries(q.cameras).map(([camera, x]) => fill(`frames ${camera}`, x))
+                                : (q ? [fill('frames', q.frames)] : []);
+  $('#queues').textContent = q ? `queues: ${frames.join(', ')}, ${fill('records', q.records)}` : 'queues: not recording';
   const d = status.disk || {};
   $('#disk').textContent = d.free_bytes === undefined ? `disk: ${d.error || '?'}` :
       `disk: ${fmtBytes(d.free_bytes)} free of ${fmtBytes(d.total_bytes)}` +
