@@ -3,21 +3,13 @@
 #include <algorithm>
 #include <cmath>
 #include <iterator>
+#include <optional>
 
 #include "core/check.h"
+#include "label/depth_holes.h"
 
 namespace mocap {
 namespace {
-
-/// Length of the ray (x, y, 1) through pixel (u, v): converts z along the optical axis to the distance
-/// from the camera centre, which is what BOP's visibility test compares.
-double RayLength(const PinholeCamera& camera, int u, int v) {
-  if (!camera.has_distortion()) {
-    const double x = (u - camera.cx) / camera.fx, y = (v - camera.cy) / camera.fy;
-    return std::sqrt(x * x + y * y + 1.0);
-  }
-  return camera.Ray({u, v}).norm();
-}
 
 /// Longest pixel ray (x, y, 1) of the image: at a corner (distortion is monotonic in the radius).
 double MaxRayLength(const PinholeCamera& camera) {
@@ -41,18 +33,29 @@ bool VisibleInMeasured(const PinholeCamera& camera, int u, int v, float z_render
   return dz * RayLength(camera, u, v) <= delta;
 }
 
-ObjectLabels LabelOne(const ObjectLayer& layer, const RenderOutput& render, const PinholeCamera& camera,
-                      const DepthImage* measured, double max_ray, const VisibilityOptions& options) {
-  ObjectLabels out;
-  ObjectMasks& m = out.masks;
-  ObjectStats& s = out.stats;
-  m.instance_id = s.instance_id = layer.instance_id;
-  m.rect = layer.rect;
-  const size_t n = layer.depth_m.size();
-  m.amodal.assign(n, 0);
-  m.visible_model.assign(n, 0);
-  if (measured) m.visible_measured.assign(n, 0);
-  int valid = 0, visible_measured = 0, visible_model = 0, inside = 0;
+/// The measured-depth decision of one amodal pixel under the options' rule.
+struct MeasuredRule {
+  const PinholeCamera& camera;
+  const VisibilityOptions& options;
+  const HoleJudge* holes;  ///< null under kBop19
+  double max_ray;
+
+  bool Visible(const ObjectLayer& layer, int u, int v, float z, float z_measured, bool nearest_in_model) const {
+    if (options.rule == VisibilityRule::kBop19) return VisibleInMeasured(camera, u, v, z, z_measured, max_ray, options);
+    if (!nearest_in_model) return false;  // a modelled object hides it, with or without depth
+    if (z_measured > 0.0f) return VisibleInMeasured(camera, u, v, z, z_measured, max_ray, options);
+    return !holes->Occluded(layer, u, v, z);
+  }
+};
+
+/// Pixel counts of one object's masks.
+struct MaskCounts {
+  int inside = 0, visible_model = 0, valid = 0, visible_measured = 0, visible_assumed = 0;
+};
+
+MaskCounts FillMasks(const ObjectLayer& layer, const RenderOutput& render, const DepthImage* measured,
+                     const MeasuredRule& rule, ObjectMasks& m) {
+  MaskCounts c;
   for (int v = m.rect.y; v < m.rect.y + m.rect.height; ++v) {
     // Row pointers, so that the pixel loop indexes without recomputing image offsets.
     const size_t row = static_cast<size_t>(v - m.rect.y) * m.rect.width;
@@ -65,35 +68,49 @@ ObjectLabels LabelOne(const ObjectLayer& layer, const RenderOutput& render, cons
     for (int k = 0; k < m.rect.width; ++k) {
       const float z = z_row[k];
       if (!(z > 0.0f)) continue;
-      amodal[k] = 1, ++inside;
-      if (id_row[k] == layer.instance_id) model[k] = 1, ++visible_model;
+      amodal[k] = 1, ++c.inside;
+      if (id_row[k] == layer.instance_id) model[k] = 1, ++c.visible_model;
       if (!measured_row) continue;
       const float zm = measured_row[k];
-      valid += zm > 0.0f;
-      if (VisibleInMeasured(camera, m.rect.x + k, v, z, zm, max_ray, options)) consistent[k] = 1, ++visible_measured;
+      c.valid += zm > 0.0f;
+      if (!rule.Visible(layer, m.rect.x + k, v, z, zm, model[k] != 0)) continue;
+      consistent[k] = 1;
+      ++(zm > 0.0f ? c.visible_measured : c.visible_assumed);
     }
   }
+  return c;
+}
+
+ObjectLabels LabelOne(const ObjectLayer& layer, const RenderOutput& render, const DepthImage* measured,
+                      const MeasuredRule& rule) {
+  ObjectLabels out;
+  ObjectMasks& m = out.masks;
+  ObjectStats& s = out.stats;
+  m.instance_id = s.instance_id = layer.instance_id;
+  m.rect = layer.rect;
+  const size_t n = layer.depth_m.size();
+  m.amodal.assign(n, 0);
+  m.visible_model.assign(n, 0);
+  if (measured) m.visible_measured.assign(n, 0);
+  const MaskCounts c = FillMasks(layer, render, measured, rule, m);
   s.bbox_obj = layer.bbox_obj;
   s.px_count_all = layer.px_count_all;
   s.truncated_by_canvas = layer.truncated_by_canvas;
-  s.outside_image = inside == 0;
-  s.px_count_visib_model = visible_model;
-  s.visib_fract_model = s.px_count_all > 0 ? static_cast<double>(visible_model) / s.px_count_all : 0.0;
-  s.px_count_valid = measured ? valid : -1;
-  s.px_count_visib = measured ? visible_measured : visible_model;
+  s.outside_image = c.inside == 0;
+  s.px_count_visib_model = c.visible_model;
+  s.visib_fract_model = s.px_count_all > 0 ? static_cast<double>(c.visible_model) / s.px_count_all : 0.0;
+  s.px_count_valid = measured ? c.valid : -1;
+  s.px_count_visib = measured ? c.visible_measured + c.visible_assumed : c.visible_model;
   s.visib_fract = s.px_count_all > 0 ? static_cast<double>(s.px_count_visib) / s.px_count_all : 0.0;
+  if (measured) {
+    s.px_count_visib_measured = c.visible_measured, s.px_count_visib_assumed = c.visible_assumed;
+    s.mask_confidence = s.px_count_visib > 0 ? static_cast<double>(c.visible_measured) / s.px_count_visib : 1.0;
+  }
   s.bbox_visib = MaskBox(measured ? m.visible_measured : m.visible_model, m.rect);
   return out;
 }
 
 }  // namespace
-
-void VisibilityOptions::check() const {
-  for (double value : {delta_base_m, noise_sigmas, noise_coeff_per_m})
-    if (!std::isfinite(value) || value < 0)
-      throw InputError("visibility options", Str("delta_base_m, noise_sigmas and noise_coeff_per_m must be >= 0 (got ",
-                                                 delta_base_m, ", ", noise_sigmas, ", ", noise_coeff_per_m, ")"));
-}
 
 PixelBox MaskBox(const std::vector<uint8_t>& mask, const PixelRect& rect) {
   int x0 = INT32_MAX, y0 = -1, x1 = -1, y1 = -1;
@@ -130,9 +147,11 @@ std::vector<ObjectLabels> ComputeObjectLabels(const RenderOutput& render, const 
                                            " (register depth to the colour camera first)"));
   std::vector<ObjectLabels> labels;
   labels.reserve(render.layers.size());
-  const double max_ray = MaxRayLength(camera);
-  for (const ObjectLayer& layer : render.layers)
-    labels.push_back(LabelOne(layer, render, camera, measured_depth_m, max_ray, options));
+  std::optional<HoleJudge> holes;
+  if (measured_depth_m && options.rule == VisibilityRule::kCombined)
+    holes.emplace(render, camera, *measured_depth_m, options);
+  const MeasuredRule rule{camera, options, holes ? &*holes : nullptr, MaxRayLength(camera)};
+  for (const ObjectLayer& layer : render.layers) labels.push_back(LabelOne(layer, render, measured_depth_m, rule));
   return labels;
 }
 

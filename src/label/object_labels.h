@@ -6,9 +6,10 @@
 //  - amodal: the object rendered alone (BOP `mask`); includes pixels hidden by other objects;
 //  - visible_model: pixels where this object is the nearest rendered object (the z-buffer); the
 //    visible_model masks of all objects and the background partition the image;
-//  - visible_measured: BOP19's `mask_visib` rule: amodal pixels where the measured distance is missing or
-//    rendered minus measured distance <= delta(z) (label/visibility.h); sees unmodelled occluders (hands),
-//    may overlap between objects.
+//  - visible_measured: visible by the measured depth under VisibilityOptions::rule (label/visibility.h):
+//    by default the combined rule (a subset of visible_model: measured depth removes unmodelled
+//    occluders such as hands, depth holes are judged from their surroundings); with kBop19 BOP19's
+//    `mask_visib` exactly (may overlap between objects).
 #include <array>
 #include <cstdint>
 #include <vector>
@@ -46,6 +47,13 @@ struct ObjectStats {
   int px_count_valid = -1;              ///< amodal pixels with measured depth > 0; -1 without measured depth
   int px_count_visib = 0;               ///< visible pixels (same choice as bbox_visib)
   double visib_fract = 0;               ///< px_count_visib / px_count_all; 0 when px_count_all is 0
+  /// Of the visible pixels (measured depth given): those whose measured depth agrees with the render
+  /// (measured), and those without depth, visible by the hole rule or the model (assumed). -1 without
+  /// measured depth.
+  int px_count_visib_measured = -1, px_count_visib_assumed = -1;
+  /// px_count_visib_measured / px_count_visib: how much of the visible mask the depth confirms (1 when
+  /// nothing is visible); -1 without measured depth.
+  double mask_confidence = -1;
   int px_count_visib_model = 0;         ///< pixels where the object is nearest (z-buffer)
   double visib_fract_model = 0;
   bool truncated_by_canvas = false;     ///< extends beyond the render canvas: counts are lower bounds

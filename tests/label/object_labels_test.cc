@@ -84,7 +84,7 @@ TEST_F(ObjectLabelsTest, MeasuredDepthRuleFollowsBop19) {
     for (int u = 340; u < 360; ++u) measured.at(u, v) = 0.0f;  // missing: counts as visible
   for (int v = 270; v < 290; ++v)
     for (int u = 270; u < 290; ++u) measured.at(u, v) -= 0.10f;  // hand in front: not visible
-  const auto labels = ComputeObjectLabels(render_, kCamera, &measured);
+  const auto labels = ComputeObjectLabels(render_, kCamera, &measured, {.rule = VisibilityRule::kBop19});
   const ObjectLabels& front = labels[0];
   EXPECT_TRUE(front.masks.at(front.masks.visible_measured, 350, 250));
   EXPECT_FALSE(front.masks.at(front.masks.visible_measured, 280, 280));
@@ -100,6 +100,26 @@ TEST_F(ObjectLabelsTest, MeasuredDepthRuleFollowsBop19) {
       hidden_in_hole += hidden.masks.at(hidden.masks.amodal, u, v) && !hidden.masks.at(hidden.masks.visible_model, u, v);
   EXPECT_GT(hidden_in_hole, 0);
   EXPECT_EQ(hidden.stats.px_count_visib, hidden.stats.px_count_visib_model + hidden_in_hole);
+}
+
+TEST_F(ObjectLabelsTest, CombinedRuleKeepsModelledOccludersAndMeasuredOnes) {
+  // The same depth as above under the default (combined) rule: the hole on object 1 is its own surface
+  // (visible), the hand still hides object 1, and object 2 gets nothing of object 1's hole.
+  DepthImage measured = render_.depth_m;
+  for (int v = 240; v < 260; ++v)
+    for (int u = 340; u < 360; ++u) measured.at(u, v) = 0.0f;
+  for (int v = 270; v < 290; ++v)
+    for (int u = 270; u < 290; ++u) measured.at(u, v) -= 0.10f;
+  const auto labels = ComputeObjectLabels(render_, kCamera, &measured);
+  const ObjectLabels& front = labels[0];
+  EXPECT_TRUE(front.masks.at(front.masks.visible_measured, 350, 250));
+  EXPECT_FALSE(front.masks.at(front.masks.visible_measured, 280, 280));
+  EXPECT_EQ(front.stats.px_count_visib, front.stats.px_count_all - 400);
+  EXPECT_EQ(front.stats.px_count_visib_assumed, 400);
+  for (const ObjectLabels& l : labels)
+    for (size_t i = 0; i < l.masks.visible_measured.size(); ++i)
+      ASSERT_LE(l.masks.visible_measured[i], l.masks.visible_model[i]) << "a subset of the z-buffer's mask";
+  EXPECT_EQ(labels[1].stats.px_count_visib, labels[1].stats.px_count_visib_model);
 }
 
 TEST_F(ObjectLabelsTest, DeltaGrowsWithDepth) {

@@ -112,8 +112,9 @@ TEST(Labeller, PoseConventionsEndToEnd) {
 
 TEST(Labeller, PackedMasksEqualTheBopStyleMasks) {
   // Measured depth 0.7 m (in front of the marker at ~0.8 m: an occluder) in even columns, missing in odd
-  // ones: the measured-depth mask keeps the odd columns only, and all three masks must come back from
-  // the packed file exactly as the full-size files have them.
+  // ones: under BOP19's rule the measured-depth mask keeps the odd columns only, and all three masks must
+  // come back from the packed file exactly as the full-size files have them. Under the combined rule
+  // (the default) the holes, enclosed by the nearer surface, are the occluder's: nothing is visible.
   const auto dir = FreshDir("packed");
   const testing::SyntheticRig rig;
   const PinholeCamera cam = testing::TestCamera();
@@ -122,6 +123,7 @@ TEST(Labeller, PackedMasksEqualTheBopStyleMasks) {
   rig.WriteSession(dir / "S", 2, -1, -1, depth);
   LabelRunOptions options = Options(dir / "L");
   options.output.write_bop_masks = true;
+  options.visibility.rule = VisibilityRule::kBop19;
   LabelSession(SessionReader::Open(dir / "S"), {MarkerObject(dir, rig)}, LabelRig{}, options);
   const auto lines = ReadJsonLines(dir / "L" / "labels.jsonl");
   ASSERT_EQ(lines.size(), 2u);
@@ -130,6 +132,10 @@ TEST(Labeller, PackedMasksEqualTheBopStyleMasks) {
   const int all = lines[0]["px_count_all"], visib = lines[0]["px_count_visib"];
   EXPECT_GT(visib, 0);
   EXPECT_LT(visib, all);
+  LabelSession(SessionReader::Open(dir / "S"), {MarkerObject(dir, rig)}, LabelRig{}, Options(dir / "L"));
+  const auto combined = ReadJsonLines(dir / "L" / "labels.jsonl");
+  EXPECT_EQ(combined[0]["px_count_all"], all);
+  EXPECT_EQ(combined[0]["px_count_visib"], 0);
   std::filesystem::remove_all(dir);
 }
 
