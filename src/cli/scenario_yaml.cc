@@ -218,21 +218,29 @@ void ReadCamera(const Ctx& ctx, const YAML::Node& node, sim::Scenario& s) {
   if (const YAML::Node p = node["T_cambody_camera"]) s.T_cambody_camera = Pose(ctx, p);
 }
 
+/// `depth_loss`, the fraction of a surface without depth (sim/depth_loss.h), in [0, 1].
+void ReadDepthLoss(const Ctx& ctx, const YAML::Node& parent, double& value) {
+  Read(ctx, parent, "depth_loss", value);
+  if (!(value >= 0 && value <= 1)) throw InputError(ctx.Where(parent["depth_loss"]), "depth_loss must be in [0, 1]");
+}
+
 void ReadScene(const Ctx& ctx, const YAML::Node& root, sim::Scenario& s) {
   if (const YAML::Node list = root["objects"]) {
     if (!list.IsSequence() || list.size() == 0) throw InputError(ctx.Where(list), "'objects' must be a non-empty list");
     s.objects.clear();
     for (const auto& o : list) {
-      CheckKeys(ctx, o, {"name", "keyframes"});
+      CheckKeys(ctx, o, {"name", "keyframes", "depth_loss"});
       if (!o["name"] || !o["keyframes"]) throw InputError(ctx.Where(o), "an object needs 'name' and 'keyframes'");
-      s.objects.push_back({As<std::string>(ctx, o["name"], "name"), Keyframes(ctx, o["keyframes"], "keyframes")});
+      sim::ScenarioObject object{As<std::string>(ctx, o["name"], "name"), Keyframes(ctx, o["keyframes"], "keyframes")};
+      ReadDepthLoss(ctx, o, object.depth_loss);
+      s.objects.push_back(object);
     }
   }
   if (const YAML::Node list = root["occluders"]) {
     if (!list.IsSequence()) throw InputError(ctx.Where(list), "'occluders' must be a list");
     s.occluders.clear();
     for (const auto& o : list) {
-      CheckKeys(ctx, o, {"name", "mesh", "box_center_m", "box_half_extents_m", "keyframes"});
+      CheckKeys(ctx, o, {"name", "mesh", "box_center_m", "box_half_extents_m", "keyframes", "depth_loss"});
       if (!o["name"] || !o["mesh"] || !o["keyframes"]) throw InputError(ctx.Where(o), "an occluder needs 'name', 'mesh' and 'keyframes'");
       sim::ScenarioOccluder occluder;
       occluder.name = As<std::string>(ctx, o["name"], "name");
@@ -240,6 +248,7 @@ void ReadScene(const Ctx& ctx, const YAML::Node& root, sim::Scenario& s) {
       ReadVec3(ctx, o, "box_center_m", occluder.box_center_m);
       ReadVec3(ctx, o, "box_half_extents_m", occluder.box_half_extents_m);
       occluder.motion = Keyframes(ctx, o["keyframes"], "keyframes");
+      ReadDepthLoss(ctx, o, occluder.depth_loss);
       s.occluders.push_back(occluder);
     }
   }

@@ -126,13 +126,17 @@ std::string EncodeScenarioYaml(const sim::Scenario& s) {
   out << "    marker_normal: " << Vec(s.camera_body.normal_body) << "\n  T_cambody_camera: " << Pose(s.T_cambody_camera) << "\n";
   out << "objects:\n";
   for (const auto& obj : s.objects) {
-    out << "  - name: " << Scalar(obj.name) << "\n    keyframes:\n";
+    out << "  - name: " << Scalar(obj.name) << "\n";
+    if (obj.depth_loss > 0) out << "    depth_loss: " << obj.depth_loss << "\n";
+    out << "    keyframes:\n";
     Keyframes(out, obj.motion, "      ");
   }
   out << "occluders:" << (s.occluders.empty() ? " []" : "") << "\n";
   for (const auto& occ : s.occluders) {
     out << "  - name: " << Scalar(occ.name) << "\n    mesh: " << Scalar(occ.mesh) << "\n    box_center_m: " << Vec(occ.box_center_m)
-        << "\n    box_half_extents_m: " << Vec(occ.box_half_extents_m) << "\n    keyframes:\n";
+        << "\n    box_half_extents_m: " << Vec(occ.box_half_extents_m) << "\n";
+    if (occ.depth_loss > 0) out << "    depth_loss: " << occ.depth_loss << "\n";
+    out << "    keyframes:\n";
     Keyframes(out, occ.motion, "      ");
   }
   const sim::CalibrationErrors& e = o.errors;

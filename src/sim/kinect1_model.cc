@@ -64,10 +64,13 @@ ColorImage AddColorNoise(const ColorImage& clean, double sigma, uint64_t seed) {
 }  // namespace
 
 Kinect1Frame SimulateKinect1(const DepthImage& clean_depth_m, const ColorImage& clean_color, const PinholeCamera& camera,
-                             const Kinect1Options& options, uint64_t seed) {
+                             const Kinect1Options& options, uint64_t seed, const DepthLoss& loss,
+                             const LabelImage* instances) {
   MOCAP_CHECK(clean_depth_m.width == camera.width && clean_depth_m.height == camera.height, "depth and camera sizes differ");
   MOCAP_CHECK(clean_color.empty() || (clean_color.width == camera.width && clean_color.height == camera.height),
               "colour and camera sizes differ");
+  MOCAP_CHECK(loss.empty() || (instances && instances->width == camera.width && instances->height == camera.height),
+              "depth loss needs the instance ids of the camera's size");
   Kinect1Frame frame;
   frame.depth_m = DepthImage(camera.width, camera.height, 0.0f);
   frame.raw_disparity = Image<uint16_t>(camera.width, camera.height, kKinect1NoDisparity);
@@ -76,8 +79,8 @@ Kinect1Frame SimulateKinect1(const DepthImage& clean_depth_m, const ColorImage& 
   const MaskImage edges = DepthEdgeMask(clean_depth_m, options.edge_jump_fraction, options.edge_min_jump_m);
   const double sigma_d_total = options.noise_coefficient_per_m / -options.disparity_a;
   const double sigma_d = options.quantise ? std::sqrt(sigma_d_total * sigma_d_total - 1.0 / 12.0) : sigma_d_total;
-  int shadow = 0, edge = 0, out_of_range = 0;
-#pragma omp parallel for schedule(static) reduction(+ : shadow, edge, out_of_range)
+  int shadow = 0, edge = 0, out_of_range = 0, lost = 0;
+#pragma omp parallel for schedule(static) reduction(+ : shadow, edge, out_of_range, lost)
   for (int v = 0; v < camera.height; ++v) {
     // One random stream per row, drawn for every pixel: reproducible whatever the scene and threads.
     Rng rng = Rng::Derive(seed, static_cast<uint64_t>(v));
@@ -94,6 +97,10 @@ Kinect1Frame SimulateKinect1(const DepthImage& clean_depth_m, const ColorImage& 
         ++edge;
         continue;
       }
+      if (!loss.empty() && loss.Lost(u, v, instances->at(u, v), seed)) {
+        ++lost;
+        continue;
+      }
       double d = Kinect1DisparityFromDepth(z, options) + noise;
       if (options.quantise) d = std::round(d);
       const double measured = Kinect1DepthFromDisparity(d, options);
@@ -108,6 +115,7 @@ Kinect1Frame SimulateKinect1(const DepthImage& clean_depth_m, const ColorImage& 
   frame.shadow_pixels = shadow;
   frame.edge_pixels = edge;
   frame.out_of_range_pixels = out_of_range;
+  frame.lost_pixels = lost;
   frame.color = AddColorNoise(clean_color, options.color_noise_sigma, seed);
   return frame;
 }

@@ -11,13 +11,15 @@
 //  - no depth where the projector's pattern cannot reach (its shadow) or the IR camera cannot see:
 //    both found by an occlusion test on the depth map (ShadowMask);
 //  - pixels at depth discontinuities dropped (the correlation window straddles two surfaces);
-//  - out-of-range depths dropped; optional Gaussian colour noise.
+//  - out-of-range depths dropped; optional Gaussian colour noise;
+//  - optionally, dark or shiny surfaces without depth in patches (sim/depth_loss.h).
 #include <cstdint>
 
 #include "core/camera.h"
 #include "core/image.h"
 #include "sim/color_image.h"
 #include "sim/depth_geometry.h"
+#include "sim/depth_loss.h"
 
 namespace mocap::sim {
 
@@ -51,6 +53,7 @@ struct Kinect1Frame {
   int shadow_pixels = 0;             ///< dropped: projector shadow or hidden from the IR camera
   int edge_pixels = 0;               ///< dropped at discontinuities
   int out_of_range_pixels = 0;
+  int lost_pixels = 0;               ///< dropped on dark or shiny surfaces (DepthLoss)
 };
 
 /// sigma_z (metres) of the model at depth z.
@@ -61,9 +64,11 @@ double Kinect1DepthFromDisparity(double disparity, const Kinect1Options& options
 
 /// Applies the Kinect v1 model to a clean rendered frame (depth in metres, 0 = nothing; colour may be
 /// empty). `seed` makes the noise reproducible (derive one per frame). Precondition: depth has the
-/// camera's size; colour is empty or the same size.
+/// camera's size; colour is empty or the same size. With `loss` (not empty), `instances` (the clean
+/// render's instance ids, the camera's size) tells which surface each pixel shows.
 Kinect1Frame SimulateKinect1(const DepthImage& clean_depth_m, const ColorImage& clean_color, const PinholeCamera& camera,
-                             const Kinect1Options& options, uint64_t seed);
+                             const Kinect1Options& options, uint64_t seed, const DepthLoss& loss = {},
+                             const LabelImage* instances = nullptr);
 
 /// The registered colour camera of a Kinect v1 at 640x480 (commonly used calibration, fx = fy = 525).
 PinholeCamera Kinect1ColorCamera();

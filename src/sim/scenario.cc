@@ -63,12 +63,14 @@ void Scenario::check(const SimObjects& library, const std::string& where) const 
     if (library.Find(objects[i].name) == nullptr) throw InputError(at, Str("object '", objects[i].name, "' is not in the object library"));
     if (!names.insert(objects[i].name).second) throw InputError(at, Str("object '", objects[i].name, "' appears twice"));
     CheckKeyframeTimes(TimesOf(objects[i].motion), at + ".motion");
+    if (!(objects[i].depth_loss >= 0 && objects[i].depth_loss <= 1)) throw InputError(at, "depth_loss must be in [0, 1]");
   }
   for (size_t i = 0; i < occluders.size(); ++i) {
     const std::string at = Str(where, ": occluders[", i, "]");
     if (occluders[i].mesh.empty()) throw InputError(at, "occluder without a mesh");
     if (!(occluders[i].box_half_extents_m.array() > 0).all()) throw InputError(at, "box_half_extents_m must be positive");
     CheckKeyframeTimes(TimesOf(occluders[i].motion), at + ".motion");
+    if (!(occluders[i].depth_loss >= 0 && occluders[i].depth_loss <= 1)) throw InputError(at, "depth_loss must be in [0, 1]");
   }
   if (camera.type == CameraMotion::Type::kRobotHead) {
     std::vector<double> times;

@@ -27,6 +27,7 @@ struct PoseKeyframe {
 struct ScenarioObject {
   std::string name;  ///< an object of the library (objects.yaml)
   std::vector<PoseKeyframe> motion;  ///< T_world_mesh keyframes; one keyframe = static
+  double depth_loss = 0;  ///< fraction of its surface without depth (dark or shiny; sim/depth_loss.h)
 };
 
 /// Something rendered and blocking lines of sight that is not labelled (a hand).
@@ -37,6 +38,7 @@ struct ScenarioOccluder {
   Eigen::Vector3d box_center_m = Eigen::Vector3d::Zero();
   Eigen::Vector3d box_half_extents_m{0.09, 0.065, 0.02};
   std::vector<PoseKeyframe> motion;  ///< T_world_occluder keyframes
+  double depth_loss = 0;  ///< fraction of its surface without depth (a dark glove; sim/depth_loss.h)
 };
 
 /// Pan/tilt of a robot head (PR2-like): T_world_camera = T_world_head * Rz(pan) * Ry(tilt) * T_tilt_camera.

@@ -131,6 +131,18 @@ TEST(ScenarioYaml, AnyNameIsWrittenSoThatItReadsBack) {
   EXPECT_EQ(EncodeScenarioYaml(read), written);
 }
 
+TEST(ScenarioYaml, DepthLossReadsBackAndIsChecked) {
+  sim::Scenario s = sim::DefaultScenario();
+  s.objects.at(2).depth_loss = 0.5;
+  s.occluders.at(0).depth_loss = 0.25;
+  const sim::Scenario read = ParseScenarioYaml(EncodeScenarioYaml(s), "written.yaml");
+  EXPECT_EQ(read.objects.at(2).depth_loss, 0.5);
+  EXPECT_EQ(read.objects.at(1).depth_loss, 0.0);
+  EXPECT_EQ(read.occluders.at(0).depth_loss, 0.25);
+  s.objects.at(2).depth_loss = 1.5;
+  EXPECT_THROW(ParseScenarioYaml(EncodeScenarioYaml(s), "written.yaml"), InputError);
+}
+
 TEST(ScenarioYaml, TheExampleInTheDocsIsValid) {
   const std::string doc = ReadText(std::filesystem::path(MOCAP_SOURCE_DIR) / "docs" / "simulation.md");
   const size_t begin = doc.find("```yaml\n");

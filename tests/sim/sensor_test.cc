@@ -3,6 +3,7 @@
 #include <cmath>
 #include <set>
 
+#include "core/check.h"
 #include "sim/depth_geometry.h"
 #include "sim/kinect1_model.h"
 #include "sim/kinect2_model.h"
@@ -105,6 +106,37 @@ TEST(Kinect1Model, EdgesDropPixelsOnlyAtDiscontinuities) {
     }
   // Two one-pixel rings around the box face: 2 * (2*(140+120) + 4) - 8 corners counted once.
   EXPECT_NEAR(edge_count, 2 * 2 * (140 + 120), 16);
+}
+
+TEST(Kinect1Model, DarkSurfacesLoseTheirDepthInPatches) {
+  // A box (instance 7) half of whose surface is dark, before a wall (instance 1) that is not.
+  const PinholeCamera camera = Kinect1ColorCamera();
+  Kinect1Options options;
+  options.projector_x_m = options.ir_camera_x_m = 0;
+  options.edge_invalid_probability = 0;
+  const DepthImage clean = BoxBeforeWall(camera, 1.0, 1.5, 240, 402, 180, 300);
+  LabelImage ids(camera.width, camera.height, 1);
+  for (int v = 180; v < 300; ++v)
+    for (int u = 240; u < 402; ++u) ids.at(u, v) = 7;
+  DepthLoss loss;
+  loss.fraction_by_instance = {{7, 0.5}};
+  const Kinect1Frame frame = SimulateKinect1(clean, {}, camera, options, 21, loss, &ids);
+  int lost_on_box = 0, lost_on_wall = 0, mixed_patches = 0;
+  for (int v = 0; v < camera.height; ++v)
+    for (int u = 0; u < camera.width; ++u) (ids.at(u, v) == 7 ? lost_on_box : lost_on_wall) += frame.depth_m.at(u, v) == 0;
+  EXPECT_EQ(lost_on_wall, 0);
+  EXPECT_EQ(frame.lost_pixels, lost_on_box);
+  EXPECT_NEAR(lost_on_box / (162.0 * 120.0), 0.5, 0.1);
+  // Whole 6x6 patches go together (the box's edges lie on patch boundaries: 240, 402; 180, 300).
+  for (int v = 180; v < 300; v += 6)
+    for (int u = 240; u < 402; u += 6) {
+      int lost = 0;
+      for (int dv = 0; dv < 6; ++dv)
+        for (int du = 0; du < 6; ++du) lost += frame.depth_m.at(u + du, v + dv) == 0;
+      mixed_patches += lost != 0 && lost != 36;
+    }
+  EXPECT_EQ(mixed_patches, 0);
+  EXPECT_THROW((DepthLoss{{{7, 1.5}}, 6}.check()), InputError);
 }
 
 TEST(Kinect1Model, SameSeedSameFrameOtherSeedOtherNoise) {

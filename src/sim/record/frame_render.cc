@@ -26,7 +26,12 @@ FrameRenderer::FrameRenderer(const Scenario& scenario, const SimObjects& library
     const SimObject* spec = library.Find(object.name);
     if (spec->reflectivity > 0)
       reflective_.push_back({static_cast<uint16_t>(spec->id), spec->reflectivity, spec->tof_deformation_m});
+    if (object.depth_loss > 0) depth_loss_.fraction_by_instance.emplace_back(static_cast<uint16_t>(spec->id), object.depth_loss);
   }
+  for (size_t k = 0; k < scenario.occluders.size(); ++k)
+    if (scenario.occluders[k].depth_loss > 0)
+      depth_loss_.fraction_by_instance.emplace_back(static_cast<uint16_t>(kOccluderInstanceBase + k),
+                                                    scenario.occluders[k].depth_loss);
   context_->MakeCurrent();
   RendererOptions label_options;
   label_options.outside_margin_fraction = 0;  // the truth needs image pixels only
@@ -73,12 +78,13 @@ SimFrame FrameRenderer::Render(const FrameTruth& truth, const RigCalibration& tr
   SimFrame frame;
   frame.index = truth.index;
   if (scenario_.options.sensor == SensorKind::kKinect1) {
-    Kinect1Frame sensor = SimulateKinect1(clean.depth_m, clean_color, true_calibration.color_camera, scenario_.options.kinect1, seed);
+    Kinect1Frame sensor = SimulateKinect1(clean.depth_m, clean_color, true_calibration.color_camera,
+                                          scenario_.options.kinect1, seed, depth_loss_, &clean.instance_ids);
     frame.color = std::move(sensor.color);
     frame.depth_m = std::move(sensor.depth_m);
     frame.raw_disparity = std::move(sensor.raw_disparity);
     frame.true_instances = std::move(clean.instance_ids);
-    frame.invalid_depth_pixels = sensor.shadow_pixels + sensor.edge_pixels + sensor.out_of_range_pixels;
+    frame.invalid_depth_pixels = sensor.shadow_pixels + sensor.edge_pixels + sensor.out_of_range_pixels + sensor.lost_pixels;
     return frame;
   }
   Kinect2DepthFrame depth = SimulateKinect2Depth(clean.depth_m, clean.instance_ids, true_calibration.depth_camera,

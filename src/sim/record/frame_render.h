@@ -11,6 +11,7 @@
 #include "render/render_context.h"
 #include "render/renderer.h"
 #include "sim/color_image.h"
+#include "sim/depth_loss.h"
 #include "sim/scenario.h"
 #include "sim/truth.h"
 
@@ -36,7 +37,7 @@ struct SimFrame {
   DepthImage depth_m;            ///< what the sensor delivers (Kinect v1: registered to colour; v2: IR camera); 0 = none
   Image<uint16_t> raw_disparity; ///< Kinect v1 11-bit disparity (2047 = none); empty for Kinect v2
   LabelImage true_instances;     ///< truth in the colour image: object (library) id or occluder id, 0 = nothing
-  int invalid_depth_pixels = 0;  ///< dropped by the sensor model (shadow, edges, range)
+  int invalid_depth_pixels = 0;  ///< dropped by the sensor model (shadow, edges, range, dark or shiny surfaces)
 };
 
 class FrameRenderer {
@@ -57,6 +58,7 @@ class FrameRenderer {
   std::unique_ptr<ColorRenderer> colors_;
   std::vector<MeshHandle> label_handles_, color_label_handles_, color_handles_;  // objects then occluders
   std::vector<ReflectiveSurface> reflective_;
+  DepthLoss depth_loss_;  ///< dark or shiny objects and occluders (Kinect v1)
 };
 
 }  // namespace mocap::sim
