@@ -101,7 +101,7 @@ struct SimulatedCameraOptions {
   /// Colour handed over as JPEG bytes, as a Kinect v2 sends it (each pattern is encoded once, at
   /// construction), so the recording path stores it without encoding; else BGR pixels.
   bool color_jpeg = false;
-  int jpeg_quality = 90;              ///< of those JPEGs (a Kinect v2's are about 150-400 kB at 1080p)
+  int jpeg_quality = 90;              ///< of those JPEGs
   double ticks_per_second = 60e6;     ///< device clock: Kinect1 60 MHz, Kinect2 8000 (0.125 ms)
   double rate_hz = 30;
   int64_t max_frames = 0;  ///< 0: until stopped
