@@ -60,6 +60,11 @@ int RunLabel(int argc, char** argv) {
   app.add_option("--depth-compression", depth_compression, "OpenEXR codec of the rendered depth: none, rle, zips, zip, piz");
   app.add_option("--cull-back-faces", culling,
                  "auto (meshes found closed and outward-wound), always or never; objects.yaml cull_back_faces wins");
+  std::string visibility = std::string(ToString(options.visibility.rule));
+  app.add_option("--visibility", visibility,
+                 "visible-mask rule against the measured depth: combined (model z-buffer, measured depth, depth holes "
+                 "judged from their surroundings) or bop19 (BOP's mask_visib exactly, for datasets compared with BOP's tools)")
+      ->check(CLI::IsMember({"combined", "bop19"}));
   app.add_flag("--stop-on-bad-image", options.stop_on_unreadable_image,
                "stop at a depth or colour file that cannot be decoded (default: label the frame without it and "
                "flag its records unreadable_depth / unreadable_color)");
@@ -81,6 +86,7 @@ int RunLabel(int argc, char** argv) {
   options.chain.interpolation.max_gap_ns = static_cast<int64_t>(max_gap_ms * 1e6);
   options.context.platform = EglPlatformFromString(platform);
   options.renderer.back_face_culling = BackFaceCullingFromString(culling);
+  options.visibility.rule = ParseVisibilityRule(visibility, "--visibility");
   // Every worker owns a context and keeps a core busy; llvmpipe's own rasteriser threads (one per core by
   // default) then only add hand-over cost: 36 -> 29-34 ms CPU per frame with 2 workers (bench/RESULTS.md,
   // bench_label). Mesa reads the variable once, at the first EGL display, which is still to come here.

@@ -3,8 +3,8 @@
 // amodal mask; one 8-bit PNG per frame holds the crops of all its objects stacked top to bottom, each
 // left-aligned (fewer files per frame: creating files is much of the output's cost on ext4).
 // labels.jsonl records each crop's box as `mask_rect` and its first row in the file as `mask_row`
-// (docs/labels.md). The masks are not nested (a pixel hidden in the model z-buffer can still agree with
-// the measured depth), hence bits rather than levels.
+// (docs/labels.md). Under BOP19's visibility rule the masks are not nested (a pixel hidden in the model
+// z-buffer can still agree with the measured depth), hence bits rather than levels.
 #include <filesystem>
 #include <string>
 #include <opencv2/core/mat.hpp>
@@ -16,7 +16,7 @@ namespace mocap {
 
 inline constexpr uint8_t kMaskBitAmodal = 1;           ///< the object rendered alone (BOP `mask`)
 inline constexpr uint8_t kMaskBitVisibleModel = 2;     ///< nearest in the model z-buffer
-inline constexpr uint8_t kMaskBitVisibleMeasured = 4;  ///< BOP19 `mask_visib` against the measured depth
+inline constexpr uint8_t kMaskBitVisibleMeasured = 4;  ///< visible by the measured depth (VisibilityOptions::rule)
 
 /// The packed masks of one object: `bits` (CV_8UC1, rect.height x rect.width) over `rect` (image pixels,
 /// x, y = top-left pixel, width, height = the image's size; not BOP's box convention). Both empty when

@@ -1,4 +1,4 @@
-// Visible-mask accuracy over simulated scenes (docs/labels.md "Visible masks: measured"): each scene is
+// Visible-mask accuracy over simulated scenes (docs/labels.md "Accuracy on simulated scenes"): each scene is
 // recorded, labelled with the true calibration, and the label's visible masks are scored against the
 // simulator's true visible masks (pipeline/scoring.h, the demo's score stage) under both visibility
 // rules: BOP19's and the combined one (the default). The figures are printed per scene and per object
@@ -136,11 +136,11 @@ std::string SceneName(const ::testing::TestParamInfo<std::string>& info) {
   return name;
 }
 
-// What depth can tell: each case of docs/labels.md "Visible masks: measured" (close range, a close object
+// What depth can tell: each case of docs/labels.md "Depth holes" (close range, a close object
 // in front of a far one, a hand in front of each object, surfaces that lose depth, several objects
-// moving, a far camera) with the default scene mid-carry.
+// moving, a far camera), the default scene (the demo's, 300 frames) and the default scene mid-carry.
 INSTANTIATE_TEST_SUITE_P(Scenes, VisibleMaskSweep,
-                         ::testing::Values("accuracy/carry", "accuracy/far", "accuracy/hand_front",
+                         ::testing::Values("default", "accuracy/carry", "accuracy/far", "accuracy/hand_front",
                                            "accuracy/hand_passes", "accuracy/two_moving", "labels/close_range",
                                            "labels/close_in_front", "labels/dark_surfaces"),
                          SceneName);
