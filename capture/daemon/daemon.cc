@@ -38,6 +38,7 @@ struct CaptureDaemon::StreamStats {
   struct Body {
     PoseStatus status = PoseStatus::kMissing;
     int64_t stamp_ns = 0;
+    int markers = -1;  ///< as the tracker last measured them; -1 when it does not say
   };
   std::map<std::string, Body> bodies;
 
@@ -104,7 +105,7 @@ void CaptureDaemon::PushSample(CapturedSample&& sample) {
     std::lock_guard lock(stats_mutex_);
     StreamStats& s = stats(sample.tracker);
     s.Note(sample.record.stamp_ns, sample.record.stamp_ns != s.last_stamp_ns);
-    s.bodies[sample.record.body] = {sample.record.status, sample.record.stamp_ns};
+    s.bodies[sample.record.body] = {sample.record.status, sample.record.stamp_ns, sample.markers};
   }
   live_->OnSample(sample);
   std::shared_ptr<Recorder> recorder;
@@ -244,8 +245,10 @@ nlohmann::json CaptureDaemon::Status() const {
   std::lock_guard lock(stats_mutex_);
   for (const auto& [name, s] : stats_) {
     nlohmann::json bodies = nlohmann::json::object();
-    for (const auto& [body, b] : s->bodies)
+    for (const auto& [body, b] : s->bodies) {
       bodies[body] = {{"status", ToString(b.status)}, {"visible", HasPose(b.status) && now_ns - b.stamp_ns < 500'000'000}};
+      if (b.markers >= 0) bodies[body]["markers"] = b.markers;
+    }
     const size_t recent = s->recent_ns.size();
     const bool fresh = recent > 0 && now_ns - s->recent_ns.back() < 1'000'000'000;
     streams[name] = {{"received", s->received}, {"rate_hz", fresh ? static_cast<double>(recent) : 0.0},

@@ -117,6 +117,7 @@ class NdiSource final : public CaptureSource {
       else if (CarriesPose(body.status)) out.record.status = PoseStatus::kMissing;
       out.record.rms_error_m = body.rms_error_m;
       out.record.port_status = body.port_status;
+      out.markers = body.markers;
       sink->PushSample(std::move(out));
     }
   }

@@ -40,6 +40,7 @@ struct CapturedFrame {
 struct CapturedSample {
   std::string tracker;  ///< stream name (TrackerStreamInfo::name)
   TrackerRecord record;
+  int markers = -1;     ///< markers the tracker measured on the body (for the live page; not recorded), -1 unknown
 };
 
 /// Where sources deliver. Implementations must not block for long: device threads call them.

@@ -47,6 +47,9 @@ struct NdiClientOptions {
   double poll_rate_hz = 60;        ///< the tracker's reporting rate
   bool use_bx = true;              ///< binary BX; false: ASCII TX (fallback for old firmware)
   uint16_t reply_options = 0x0801; ///< transforms + status, also out of volume
+  /// With BX, also ask for each tool's 3D marker positions (option 0x0008), for the markers each tool
+  /// was fitted from (BodySample::markers). TX has no such option.
+  bool request_markers = true;
   bool skip_repeated_frames = true;
   int connect_timeout_ms = 2000;
   int init_timeout_ms = 5000;      ///< first INIT over TCP may take up to 5 s (PlusLib)
@@ -70,6 +73,7 @@ struct BodySample {
   Rigid3d T_tracker_body;         ///< metres; meaningful when has_pose
   bool has_pose = false;          ///< a transform came (also for out of volume)
   double rms_error_m = 0;
+  int markers = -1;               ///< markers the tracker measured on the tool (BX 0x0008); -1: not asked
 };
 
 /// One BX/TX reply: every body, one host receive time.
@@ -151,6 +155,10 @@ class NdiClient {
   void Setup();
   void PollLoop();
   void PollOnce();
+  /// The BX reply options asked for: reply_options, with 0x0008 when request_markers.
+  uint16_t BxOptions() const {
+    return static_cast<uint16_t>(options_.reply_options | (options_.request_markers ? reply_option::kToolMarkers : 0));
+  }
   void Deliver(const TrackingReply& reply, int64_t stamp_ns);
   void Reconnect();
   void Emit(TrackerEventKind kind, std::string message);

@@ -37,7 +37,7 @@ void NdiClient::PollLoop() {
 
 void NdiClient::PollOnce() {
   if (!link_) throw TransportError("not connected");
-  const TrackingReply reply = options_.use_bx ? link_->Bx(options_.reply_options, options_.reply_timeout_ms)
+  const TrackingReply reply = options_.use_bx ? link_->Bx(BxOptions(), options_.reply_timeout_ms)
                                               : link_->Tx(options_.reply_options, options_.reply_timeout_ms);
   Deliver(reply, MonotonicNowNs());
 }
@@ -84,6 +84,8 @@ void NdiClient::Deliver(const TrackingReply& reply, int64_t stamp_ns) {
     body.status = ToPoseStatus(h);
     body.frame_number = h.frame_number;
     body.port_status = h.port_status;
+    if (options_.use_bx && (BxOptions() & reply_option::kToolMarkers) && h.status != HandleStatus::kDisabled)
+      body.markers = static_cast<int>(h.markers_mm.size());
     if (const std::optional<Rigid3d> pose = ToRigid3d(h)) {
       body.T_tracker_body = *pose;
       body.has_pose = true;

@@ -47,6 +47,8 @@ void EmulatedTrackerOptions::check() const {
   if (!(rate_hz > 0 && rate_hz <= 1000)) throw InputError("emulator rate", Str(rate_hz, " Hz is not in (0, 1000]"));
   if (!(noise_mm >= 0 && noise_mm < 1000)) throw InputError("emulator noise", Str(noise_mm, " mm is not in [0, 1000)"));
   if (!(dropout >= 0 && dropout <= 1)) throw InputError("emulator dropout", Str(dropout, " is not a probability"));
+  if (markers_per_tool < 3 || markers_per_tool > 20)
+    throw InputError("emulator markers per tool", Str(markers_per_tool, " is not in 3..20 (a tool needs 3 to be fitted)"));
 }
 
 void TrackingClock::Start(double t_s) {
@@ -230,7 +232,9 @@ std::string EmulatedTracker::Tracking(std::string_view name, Params params, doub
   TextCursor cursor(params);
   const std::optional<uint32_t> options = cursor.Hex(4);
   if (!options || !cursor.AtEnd()) return FrameErrorReply(kParameterCount);
-  if (!(*options & reply_option::kTransforms) || (*options & ~0x0801u)) return FrameErrorReply(kOutOfRange);
+  // BX also gives each tool's 3D marker positions (0x0008); TX is answered for 0x0001 and 0x0800 only.
+  const uint32_t supported = name == "BX" ? 0x0809u : 0x0801u;
+  if (!(*options & reply_option::kTransforms) || (*options & ~supported)) return FrameErrorReply(kOutOfRange);
   const uint32_t frame = FrameAt(TrackingTime(t_s));
   const std::optional<double> end_s = trajectory_->end_s();
   reply.past_end = end_s && TimeOfFrame(frame) > *end_s;
@@ -246,7 +250,7 @@ std::string EmulatedTracker::Tracking(std::string_view name, Params params, doub
   reply.tracking_data = true;
   std::string bytes;
   if (name == "BX") {
-    const std::vector<uint8_t> frame_bytes = EncodeBx(tracking);
+    const std::vector<uint8_t> frame_bytes = EncodeBx(tracking, static_cast<uint16_t>(*options));
     bytes.assign(frame_bytes.begin(), frame_bytes.end());
   } else {
     bytes = FrameReply(EncodeTxText(tracking));
@@ -285,7 +289,20 @@ HandleReport EmulatedTracker::Report(int body, uint32_t frame, uint16_t options)
   report.q_wxyz = {q[0], q[1], q[2], q[3]};
   report.t_mm = {t_mm.x(), t_mm.y(), t_mm.z()};
   report.rms_error_mm = 0.1 + 0.5 * options_.noise_mm;
+  if (options & reply_option::kToolMarkers) report.markers_mm = MarkersMm(truth.T_tracker_body, t_mm);
   return report;
+}
+
+// A tool's markers where the reported pose puts them: a planar, asymmetric pattern (as passive tools
+// have, so that the fit is unique) of markers_per_tool points on a 40 mm circle, in the body frame.
+std::vector<std::array<double, 3>> EmulatedTracker::MarkersMm(const Rigid3d& T_tracker_body, const Eigen::Vector3d& t_mm) const {
+  std::vector<std::array<double, 3>> markers;
+  for (int i = 0; i < options_.markers_per_tool; ++i) {
+    const double angle = 2.0 * M_PI * i / options_.markers_per_tool + 0.3 * i * i;
+    const Eigen::Vector3d p = T_tracker_body.rotation() * Eigen::Vector3d(40 * std::cos(angle), 40 * std::sin(angle), 0) + t_mm;
+    markers.push_back({p.x(), p.y(), p.z()});
+  }
+  return markers;
 }
 
 }  // namespace mocap::ndi

@@ -2,6 +2,7 @@
 // The protocol side of the tracker emulator, free of I/O: takes one command line, returns the reply
 // bytes a Polaris/Vega would send (same framing, CRCs, BX/TX layout and ERRORxx codes as
 // reference ndi-combined-api.md). One instance per connection; the bodies come from a TrajectorySource.
+#include <array>
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -30,6 +31,9 @@ struct EmulatedTrackerOptions {
   /// connects late still hears a replay from its start; otherwise it is the `t_s` the caller passes
   /// (the emulator's start: in-process users sharing that clock, `capture replay`).
   bool clock_from_tstart = false;
+  /// Markers of each tool, reported with BX option 0x0008 (3D marker positions): all of them while the
+  /// tool is VALID, none while it is MISSING (a tracker that sees too few markers cannot fit the tool).
+  int markers_per_tool = 4;
   void check() const;
 };
 
@@ -75,6 +79,7 @@ class EmulatedTracker {
   double TimeOfFrame(uint32_t frame) const;
   /// What BX reports for `body` in `frame` (noise, dropout and volume applied).
   HandleReport Report(int body, uint32_t frame, uint16_t options) const;
+  std::vector<std::array<double, 3>> MarkersMm(const Rigid3d& T_tracker_body, const Eigen::Vector3d& t_mm) const;
 
  private:
   struct PortHandle {

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <cstring>
 
+#include "capture/ndi/commands.h"
 #include "capture/ndi/crc.h"
 
 namespace mocap::ndi {
@@ -50,7 +51,7 @@ std::string FrameErrorReply(int code) {
   return FrameReply(text);
 }
 
-std::vector<uint8_t> EncodeBx(const TrackingReply& reply) {
+std::vector<uint8_t> EncodeBx(const TrackingReply& reply, uint16_t options) {
   std::vector<uint8_t> body;
   body.push_back(static_cast<uint8_t>(reply.handles.size()));
   for (const HandleReport& h : reply.handles) {
@@ -64,6 +65,12 @@ std::vector<uint8_t> EncodeBx(const TrackingReply& reply) {
     }
     PutU32(body, h.port_status);
     PutU32(body, h.frame_number);
+    if (options & reply_option::kToolMarkers) {  // §6: count, ceil(n/8) out-of-volume bits (none set), xyz
+      body.push_back(static_cast<uint8_t>(h.markers_mm.size()));
+      body.insert(body.end(), (h.markers_mm.size() + 7) / 8, 0);
+      for (const auto& xyz : h.markers_mm)
+        for (double v : xyz) PutF32(body, v);
+    }
   }
   PutU16(body, reply.system_status);
   std::vector<uint8_t> frame;

@@ -101,7 +101,20 @@ TEST(CaptureReplay, NdiReplayStartsWithTheSessionAndItsEndIsAWarning) {
   CaptureDaemon daemon({.sessions_dir = dir}, std::move(sources));
   std::this_thread::sleep_for(500ms);  // longer than the recording
   daemon.StartSession("S");
-  std::this_thread::sleep_for(1200ms);
+  // The status shows how many markers the tracker measured on the tool (BX 0x0008): the emulated tool's
+  // 4 while the replay plays, 0 once it has ended (MISSING).
+  // The one tool is the emulator's first handle (no tool names in the options).
+  const auto markers = nlohmann::json::json_pointer("/streams/ndi/bodies/handle-01/markers");
+  int most_markers = -1;
+  for (const auto until = std::chrono::steady_clock::now() + 1200ms; std::chrono::steady_clock::now() < until;) {
+    const nlohmann::json status = daemon.Status();
+    if (status.contains(markers)) most_markers = std::max(most_markers, status[markers].get<int>());
+    std::this_thread::sleep_for(5ms);
+  }
+  EXPECT_EQ(most_markers, 4);
+  const nlohmann::json status = daemon.Status();
+  ASSERT_TRUE(status.contains(markers)) << status.dump();
+  EXPECT_EQ(status[markers], 0) << "past the replay's end";
   daemon.StopSession();
 
   const SessionReader reader = SessionReader::Open(dir / "S");

@@ -139,6 +139,37 @@ TEST(NdiClient, TcpLoopbackDeliversWhatTheEmulatorServes) {
   EXPECT_EQ(got.Events(TrackerEventKind::kConnected).size(), 1u);
 }
 
+// With BX the client asks for the tools' 3D markers (0x0809) and reports how many each tool had: all of
+// the emulated tool's markers while VALID, none while MISSING; TX has no such option (-1).
+TEST(NdiClient, ReportsEachToolsMarkerCountWithBx) {
+  auto truth = Circles(2);
+  Emulator emulator({.port = 0, .tracker = {.rate_hz = 100, .dropout = 0.3, .seed = 5, .markers_per_tool = 5}}, truth);
+  emulator.Start();
+  Collector got;
+  NdiClient client({.port = emulator.port(), .poll_rate_hz = 100}, got.samples(), got.events());
+  client.Open();
+  client.StartStreaming();
+  ASSERT_TRUE(got.WaitFor([&] { return got.Samples().size() >= 40; }));
+  client.Close();
+  int valid = 0, missing = 0;
+  for (const TrackerSample& s : got.Samples())
+    for (const BodySample& b : s.bodies) {
+      EXPECT_EQ(b.markers, b.ndi_status == HandleStatus::kValid ? 5 : 0) << "frame " << b.frame_number;
+      ++(b.ndi_status == HandleStatus::kValid ? valid : missing);
+    }
+  EXPECT_GT(valid, 0);
+  EXPECT_GT(missing, 0) << "30 % dropout";
+
+  Collector tx;
+  NdiClient ascii({.port = emulator.port(), .poll_rate_hz = 100, .use_bx = false}, tx.samples(), tx.events());
+  ascii.Open();
+  ascii.StartStreaming();
+  ASSERT_TRUE(tx.WaitFor([&] { return tx.Samples().size() >= 5; }));
+  ascii.Close();
+  for (const TrackerSample& s : tx.Samples())
+    for (const BodySample& b : s.bodies) EXPECT_EQ(b.markers, -1);
+}
+
 TEST(NdiClient, TxFallbackAndStatuses) {
   TrajectoryScript script = ParseTrajectoryScript(
       "volume -400 400 -400 400 -2000 -1000 30\nstatic ok 0 0 -1500 0.7071 0 0.7071 0\nstatic edge 380 0 -1500\n"

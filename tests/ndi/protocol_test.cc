@@ -166,6 +166,37 @@ TEST(NdiReply, BxStatusBitsAndSystemStatus) {
   EXPECT_EQ(DescribeSystemStatus(parsed.value->system_status), "too much external IR, port occupied");
 }
 
+// Option 0x0008 (§6): after port status and frame number, the tool's marker count, a bitmask of
+// ceil(n/8) bytes and n xyz f32, for VALID and MISSING handles; nothing for DISABLED ones.
+TEST(NdiReply, BxToolMarkersRoundTripAndCountInTheLength) {
+  TrackingReply reply;
+  HandleReport seen;
+  seen.handle = 1;
+  seen.status = HandleStatus::kValid;
+  seen.has_transform = true;
+  seen.markers_mm = {{1, 2, 3}, {4, 5, 6}, {7, 8, 9}, {-1.5, 2.5, -1500}};
+  HandleReport missing;
+  missing.handle = 2;
+  missing.status = HandleStatus::kMissing;
+  missing.markers_mm = {{10, 20, 30}};  // a tracker that sees too few markers to fit the tool
+  HandleReport disabled;
+  disabled.handle = 3;
+  disabled.status = HandleStatus::kDisabled;
+  reply.handles = {seen, missing, disabled};
+  const std::vector<uint8_t> bytes = EncodeBx(reply, 0x0809);
+  // Header 6 + count 1 + VALID (2 + 32 + 8 + 1 + 1 + 48) + MISSING (2 + 8 + 1 + 1 + 12) + DISABLED 2 + status 2 + CRC 2.
+  EXPECT_EQ(bytes.size(), 6u + 1 + 92 + 24 + 2 + 2 + 2);
+  auto parsed = ParseBx(bytes, 0x0809);
+  ASSERT_TRUE(parsed.ok()) << parsed.error.message;
+  ASSERT_EQ(parsed.value->handles.size(), 3u);
+  EXPECT_EQ(parsed.value->handles[0].markers_mm.size(), 4u);
+  EXPECT_EQ(parsed.value->handles[0].markers_mm[3][2], -1500.0);
+  EXPECT_EQ(parsed.value->handles[1].markers_mm.size(), 1u);
+  EXPECT_EQ(parsed.value->handles[1].markers_mm[0][1], 20.0);
+  EXPECT_TRUE(parsed.value->handles[2].markers_mm.empty());
+  EXPECT_FALSE(ParseBx(bytes, 0x0801).ok()) << "read without 0x0008 the marker bytes are left over";
+}
+
 TEST(NdiReply, BxEveryTruncationAndByteFlipIsAnErrorWithOffset) {
   for (size_t size = 0; size < kBxExample.size(); ++size) {
     auto parsed = ParseBx(std::span(kBxExample).subspan(0, size), 0x0001);

@@ -86,6 +86,7 @@ function showBodies(status) {
       const text = b.visible ? 'visible' : (b.status === 'valid' ? 'stale' : b.status.replace(/_/g, ' '));
       upsertRow(tbody, `${tracker}/${body}`, 'data-body', [
         {text: tracker}, {text: body}, {text, class: 'status', bad: !b.visible, name: b.status},
+        {text: b.markers === undefined ? '–' : String(b.markers), class: 'num markers'},
       ]);
     }
   }
