@@ -25,6 +25,8 @@
 // on the object and gives the latter to the occluder. A hole wider than any shadow beside an occluder
 // is the occluder's own surface without depth (a hand nearer than the sensor's range, in part): only the
 // shadow's width next to the object stays the object's.
+#include <vector>
+
 #include "core/camera.h"
 #include "core/image.h"
 #include "label/visibility.h"
@@ -49,7 +51,15 @@ class HoleJudge {
   enum class Sample { kNone, kSurface, kOccluder };
   /// Classifies the measured sample at (x, y) against `layer` rendered at z_m at the hole pixel.
   Sample Classify(const ObjectLayer& layer, int x, int y, float z_m) const;
+  /// Fills reach_: one pass over the image per direction, so that a hole pixel finds its samples in 8
+  /// look-ups rather than walking up to hole_search_px pixels each way (a large hole, such as an object
+  /// nearer than the sensor's range, would otherwise cost hundreds of steps per pixel).
+  void FindReach() const;
 
+  /// Per direction (kDirections), the steps from each pixel to the first pixel with measured depth; 0
+  /// when there is none within hole_search_px. Built on the first hole judged (frames without holes on
+  /// objects do not pay for it).
+  mutable std::vector<Image<uint16_t>> reach_;
   const RenderOutput& render_;
   const PinholeCamera& camera_;
   const DepthImage& measured_;
