@@ -11,8 +11,11 @@
 namespace mocap::capture {
 namespace {
 
+// The queues (90 frames per camera) hold all 2 s, so a slow writer (the sanitizer build, a loaded host)
+// delays the session's close rather than dropping: this checks what is recorded; keeping up at 30 Hz is
+// capture_two_cameras_test's (60 s: a writer slower than 30 Hz would fill 3 s of queue) and bench_capture's.
 TEST(TwoCameras, RecordsBothWithTheTrackerOnOneClockAndShowsBoth) {
-  const testing::TwoCameraResult result = testing::RecordAndCheckTwoCameras("two_cameras", 2.0, 32, 10);
+  const testing::TwoCameraResult result = testing::RecordAndCheckTwoCameras("two_cameras", 2.0, 90, 10);
   EXPECT_GT(result.summary["streams"]["kinect2"]["written"].get<int64_t>(), 40) << result.summary.dump();
   EXPECT_EQ(result.thumbnail_cameras, (std::vector<std::string>{"kinect1", "kinect2"}))
       << "the live view shows each camera, the Kinect v2's from its JPEG";
