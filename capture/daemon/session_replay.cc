@@ -4,6 +4,8 @@
 #include <atomic>
 #include <condition_variable>
 #include <deque>
+#include <fstream>
+#include <iterator>
 #include <limits>
 #include <mutex>
 #include <thread>
@@ -16,6 +18,16 @@ namespace mocap::capture {
 namespace {
 
 namespace fs = std::filesystem;
+
+// JPEG colour is replayed as its bytes, as the camera that recorded it (a Kinect v2) handed it over, so a
+// re-recording stores the same file; anything else is decoded.
+std::shared_ptr<const std::vector<uint8_t>> ReadJpegAsStored(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path.string(), "cannot open the image");
+  auto bytes = std::make_shared<std::vector<uint8_t>>(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  if (!IsWholeJpeg(*bytes)) throw InputError(path.string(), Str("JPEG is truncated or not a JPEG (", bytes->size(), " bytes)"));
+  return bytes;
+}
 
 // The images of one record, decoded ahead of their time.
 struct LoadedFrame {
@@ -92,12 +104,15 @@ class SessionCameraReplay final : public CaptureSource {
     loaded.frame.record.color_file.clear();
     loaded.frame.record.depth_file.clear();
     try {
-      if (entry.color_present) loaded.frame.color = session_.LoadColor(camera_, index);
+      if (entry.color_present && session_.ColorPath(camera_, index).extension() == ".jpg")
+        loaded.frame.color_jpeg = ReadJpegAsStored(session_.ColorPath(camera_, index));
+      else if (entry.color_present)
+        loaded.frame.color = session_.LoadColor(camera_, index);
       if (entry.depth_present) {
         DepthImage depth = session_.LoadDepth(camera_, index);
         loaded.frame.depth = cv::Mat(depth.height, depth.width, CV_32FC1, depth.data.data()).clone();
       }
-      if (loaded.frame.color.empty() && loaded.frame.depth.empty()) loaded.error = "the record has no image";
+      if (!loaded.frame.has_color() && loaded.frame.depth.empty()) loaded.error = "the record has no image";
     } catch (const std::exception& e) {
       loaded.error = e.what();
     }

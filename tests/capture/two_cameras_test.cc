@@ -1,9 +1,16 @@
 // Several cameras per daemon: a Kinect v1 (PNG colour) and a Kinect v2 at its full sizes (JPEG colour
 // stored as it came) with a tracker, each camera with its own queue, counters and clock fit; the live
-// view's thumbnails of both; JPEG colour refused when it is not a whole JPEG.
+// view's thumbnails of both; the same two cameras replayed from their session; JPEG colour refused when
+// it is not a whole JPEG.
 #include <gtest/gtest.h>
 
+#include <fstream>
+#include <opencv2/core.hpp>
+#include <thread>
+
+#include "capture/daemon/session_replay.h"
 #include "capture/daemon/sources.h"
+#include "session/reader.h"
 #include "session/writer.h"
 #include "test_dirs.h"
 #include "two_camera_rig.h"
@@ -19,6 +26,50 @@ TEST(TwoCameras, RecordsBothWithTheTrackerOnOneClockAndShowsBoth) {
   EXPECT_GT(result.summary["streams"]["kinect2"]["written"].get<int64_t>(), 40) << result.summary.dump();
   EXPECT_EQ(result.thumbnail_cameras, (std::vector<std::string>{"kinect1", "kinect2"}))
       << "the live view shows each camera, the Kinect v2's from its JPEG";
+}
+
+std::vector<uint8_t> Bytes(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// Replayed cameras go through the daemon as simulated and live ones do: both cameras of a recorded
+// session replayed at once, from one origin, give every record again with its numbers, its stamp moved
+// by one constant, the Kinect v2's JPEG files byte for byte (handed over as bytes, not decoded) and the
+// Kinect v1's colour and both depths pixel for pixel.
+TEST(TwoCameras, ReplayedCamerasRecordLikeLiveOnes) {
+  const testing::TwoCameraResult source = testing::RecordAndCheckTwoCameras("two_cameras_source", 0.7, 90, 10);
+  const SessionReader recorded = SessionReader::Open(source.session_dir);
+  const auto root = mocap::testing::FreshCaptureDir("two_cameras_replayed");
+  const int64_t origin_ns = FirstStampNs(recorded);
+  const int64_t start_ns = MonotonicNowNs() + 1'000'000'000;  // lead-in: the replays decode ahead
+  std::vector<std::unique_ptr<CaptureSource>> sources;
+  for (const char* camera : {"kinect1", "kinect2"})
+    sources.push_back(CreateSessionCameraReplay(
+        {.session_dir = source.session_dir, .camera = camera, .origin_ns = origin_ns, .start_host_ns = start_ns}));
+  CaptureDaemon daemon({.sessions_dir = root}, std::move(sources));
+  daemon.StartSession("R");
+  const int64_t end_ns = start_ns + (source.stop_ns - origin_ns) + 300'000'000;
+  std::this_thread::sleep_for(std::chrono::nanoseconds(end_ns - MonotonicNowNs()));
+  const nlohmann::json summary = daemon.StopSession();
+  ASSERT_EQ(summary["complete"], true) << summary.dump();
+  const SessionReader replayed = SessionReader::Open(root / "R");
+  for (const char* camera : {"kinect1", "kinect2"}) {
+    SCOPED_TRACE(camera);
+    ASSERT_EQ(replayed.frame_count(camera), recorded.frame_count(camera)) << summary.dump();
+    for (int64_t i = 0; i < recorded.frame_count(camera); ++i) {
+      const CameraFrameRecord &a = recorded.frame(camera, i).record, &b = replayed.frame(camera, i).record;
+      ASSERT_EQ(b.frame, a.frame);
+      ASSERT_EQ(b.device_ticks, a.device_ticks);
+      ASSERT_EQ(b.stamp_ns - a.stamp_ns, start_ns - origin_ns) << "record " << i;
+      ASSERT_EQ(b.color_file, a.color_file);
+      if (a.color_file.ends_with(".jpg"))
+        ASSERT_EQ(Bytes(replayed.ColorPath(camera, i)), Bytes(recorded.ColorPath(camera, i))) << "record " << i;
+      else
+        ASSERT_EQ(cv::norm(replayed.LoadColor(camera, i), recorded.LoadColor(camera, i), cv::NORM_INF), 0) << "record " << i;
+      ASSERT_EQ(replayed.LoadDepth(camera, i).data, recorded.LoadDepth(camera, i).data) << "record " << i;
+    }
+  }
 }
 
 TEST(TwoCameras, EachCameraHasItsOwnQueue) {
