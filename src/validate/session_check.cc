@@ -236,52 +236,70 @@ bool ClearAgreement(const LabelCheck& c, const ValidateOptions& options) {
   return judged.position_mm <= fraction * c.accept_position_mm && judged.rotation_deg <= fraction * c.accept_rotation_deg;
 }
 
-/// One instance's records in frame order through its own tracker.
-void CheckTrack(const SessionReader& session, const LabelRunView& labels, const std::map<int, ObjectModel>& models,
-                const SessionCheckOptions& options, std::vector<RecordCheck>& records, std::vector<size_t> group) {
-  std::sort(group.begin(), group.end(), [&](size_t a, size_t b) { return records[a].index < records[b].index; });
-  const ObjectModel& model = models.at(records[group.front()].object);
-  ObjectTracker tracker(*model.crops, model.options);
+/// One record through its instance's tracker, with the frame's inputs already read.
+void CheckTracked(const FrameInputs& in, const SessionReader& session, const ObjectModel& model,
+                  const SessionCheckOptions& options, ObjectTracker& tracker, int64_t& last_stamp_ns, RecordCheck& r) {
+  const PinholeCamera& camera = session.manifest().FindCamera(r.camera)->color_camera;
+  const RecordMask mask = MaskOf(in, r, options);
+  if (auto bad = InputProblem(in, mask, camera)) {
+    r.check = *bad;  // the tracker skips the frame: its filter bridges the gap at the next one
+    r.mode = "skipped";
+    return;
+  }
   const bool seed_from_label = model.options.check_seed == AcquisitionSeed::kLabel;
   // Cross-checks at fixed frame indices: a shard starting at such a frame checks as the whole run does.
   const int every = model.options.tracking.reacquire_every;
-  int64_t last_stamp_ns = 0;
-  for (size_t i : group) {
-    RecordCheck& r = records[i];
-    const FrameInputs in = LoadFrame(session, labels, r.camera, r.index, options);
-    const PinholeCamera& camera = session.manifest().FindCamera(r.camera)->color_camera;
-    const RecordMask mask = MaskOf(in, r, options);
-    if (auto bad = InputProblem(in, mask, camera)) {
-      r.check = *bad;  // the tracker skips the frame: its filter bridges the gap at the next one
-      r.mode = "skipped";
-    } else {
-      const PointCloud scene = DepthToPointsMasked(in.depth_m, camera, *mask.mask, mask.value);
-      // Without a tracked camera body the camera is taken as static (motion all in the object).
-      const InterpolatedPose camera_pose = session.CameraPoseAtFrame(r.camera, r.index);
-      const int64_t stamp_ns = std::max(r.stamp_ns, last_stamp_ns + 1);
-      last_stamp_ns = stamp_ns;
-      // Crops as this frame sees them; the label seeds the acquisitions (the first frame, after a loss,
-      // the periodic cross-check), as in the per-frame mode.
-      const VisibleInFrameCropSource visible(*model.crops, camera, in.depth_m, *mask.mask, mask.value,
-                                             model.options.occluder_margin_m);
-      const CropSource& frame_model = model.options.occluder_margin_m > 0 ? static_cast<const CropSource&>(visible)
-                                                                               : *model.crops;
-      const TrackStep step = tracker.Step(scene, camera_pose.ok() ? *camera_pose.pose : Rigid3d(), stamp_ns,
-                                          seed_from_label ? &r.T_camera_object_label : nullptr, &frame_model,
-                                          every > 0 && r.index % every == 0);
-      r.check = CheckLabelWithTrack(scene, r.T_camera_object_label, frame_model, step, model.options);
-      r.mode = std::string(ToString(step.mode));
-      // A tracking step is the fast path to a clear agreement; a disagreement or a close call is evidence
-      // only from a full acquisition (a track can settle a few millimetres off while a carried object
-      // moves, or keep a few degrees of its start about a weakly constrained axis), so it is checked
-      // again as the per-frame mode does.
-      if (step.mode == TrackMode::kTracking && seed_from_label && !ClearAgreement(r.check, model.options)) {
-        r.check = CheckLabelInFrame(in.depth_m, camera, *mask.mask, mask.value, r.T_camera_object_label, *model.crops,
-                                    model.view_crops, model.options);
-        r.mode = "recheck";
-      }
-    }
-    Score(in, options, r);
+  // Thinned here once: the tracker and the check thin it again, which leaves a thinned cloud as it is
+  // (each point alone in its voxel) at a fraction of the cost of thinning the raw cloud twice.
+  const PointCloud scene =
+      VoxelDownsample(DepthToPointsMasked(in.depth_m, camera, *mask.mask, mask.value), model.options.scene_voxel_m);
+  // Without a tracked camera body the camera is taken as static (motion all in the object).
+  const InterpolatedPose camera_pose = session.CameraPoseAtFrame(r.camera, r.index);
+  const int64_t stamp_ns = std::max(r.stamp_ns, last_stamp_ns + 1);
+  last_stamp_ns = stamp_ns;
+  // Crops as this frame sees them; the label seeds the acquisitions (the first frame, after a loss,
+  // the periodic cross-check), as in the per-frame mode.
+  const VisibleInFrameCropSource visible(*model.crops, camera, in.depth_m, *mask.mask, mask.value,
+                                         model.options.occluder_margin_m);
+  const CropSource& frame_model =
+      model.options.occluder_margin_m > 0 ? static_cast<const CropSource&>(visible) : *model.crops;
+  const TrackStep step = tracker.Step(scene, camera_pose.ok() ? *camera_pose.pose : Rigid3d(), stamp_ns,
+                                      seed_from_label ? &r.T_camera_object_label : nullptr, &frame_model,
+                                      every > 0 && r.index % every == 0);
+  r.check = CheckLabelWithTrack(scene, r.T_camera_object_label, frame_model, step, model.options);
+  r.mode = std::string(ToString(step.mode));
+  // A tracking step is the fast path to a clear agreement; a disagreement or a close call is evidence
+  // only from a full acquisition (a track can settle a few millimetres off while a carried object
+  // moves, or keep a few degrees of its start about a weakly constrained axis), so it is checked
+  // again as the per-frame mode does.
+  if (step.mode == TrackMode::kTracking && seed_from_label && !ClearAgreement(r.check, model.options)) {
+    r.check = CheckLabelInFrame(in.depth_m, camera, *mask.mask, mask.value, r.T_camera_object_label, *model.crops,
+                                model.view_crops, model.options);
+    r.mode = "recheck";
+  }
+}
+
+/// A group of records in frame order, each instance through its own tracker; each frame's inputs are
+/// read once for all of its records (a frame of four objects was read four times).
+void CheckTracks(const SessionReader& session, const LabelRunView& labels, const std::map<int, ObjectModel>& models,
+                 const SessionCheckOptions& options, std::vector<RecordCheck>& records, std::vector<size_t> group) {
+  std::stable_sort(group.begin(), group.end(), [&](size_t a, size_t b) {
+    return std::tie(records[a].camera, records[a].index) < std::tie(records[b].camera, records[b].index);
+  });
+  struct Track {
+    ObjectTracker tracker;
+    int64_t last_stamp_ns = 0;
+  };
+  std::map<int, Track> tracks;  // by instance
+  std::optional<FrameInputs> in;
+  for (size_t n = 0; n < group.size(); ++n) {
+    RecordCheck& r = records[group[n]];
+    if (n == 0 || r.index != records[group[n - 1]].index || r.camera != records[group[n - 1]].camera)
+      in.emplace(LoadFrame(session, labels, r.camera, r.index, options));
+    const ObjectModel& model = models.at(r.object);
+    Track& track = tracks.try_emplace(r.instance, Track{ObjectTracker(*model.crops, model.options)}).first->second;
+    CheckTracked(*in, session, model, options, track.tracker, track.last_stamp_ns, r);
+    Score(*in, options, r);
   }
 }
 
@@ -322,14 +340,15 @@ SessionValidation CheckSession(const SessionReader& session, const std::vector<V
     Progress progress(options.progress, "validate", static_cast<int64_t>(records.size()), "records");
     if (options.track) {
       // One tracker per instance and stretch between cross-checks: a tracker started at a cross-check
-      // frame checks as the continued one does (see CheckTrack), and the stretches keep every
-      // core busy where one instance's track would outlast the others.
+      // frame checks as the continued one does (see CheckTracked), and the stretches keep every core
+      // busy where one instance's track would outlast the others. A stretch's instances share a job, so
+      // that its frames are read once; without cross-checks each instance is a job of its own.
       const int every = options.validate.tracking.reacquire_every;
       const auto groups = GroupBy(records, [every](const RecordCheck& r) {
-        return std::make_tuple(r.camera, r.instance, every > 0 ? r.index / every : int64_t{0});
+        return every > 0 ? std::make_tuple(r.camera, r.index / every, 0) : std::make_tuple(r.camera, int64_t{0}, r.instance);
       });
       ParallelFor(static_cast<int>(groups.size()), options.threads, [&](int g) {
-        CheckTrack(session, labels, models, options, records, groups[g]);
+        CheckTracks(session, labels, models, options, records, groups[g]);
         progress.Advance(static_cast<int64_t>(groups[g].size()));
       });
     } else {
