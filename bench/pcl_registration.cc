@@ -130,8 +130,9 @@ class PclRegistration final : public Registration {
     icp.setInputTarget(scene->cloud);
     icp.setSearchMethodTarget(scene->tree, true);
     const double gate_m = std::max(first_gate_m, options.support_distance_m);
-    // The validator's own stops when a step moves less than 1 um and 1e-5 rad.
-    Configure(icp, gate_m, options.refine_iterations, 1e-6, DegFromRad(1e-5));
+    // The validator's own stops when a step moves less than refine_step_m, in rotation as an arc at the
+    // crop's radius (taken here as a typical 5 cm).
+    Configure(icp, gate_m, options.refine_iterations, options.refine_step_m, DegFromRad(options.refine_step_m / 0.05));
     return Run(icp, T_camera_model_init, gate_m);
   }
 

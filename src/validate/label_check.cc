@@ -55,7 +55,11 @@ void Finish(const PointGrid& grid, const Rigid3d& label, const CropSource& model
       check->T_camera_object_segicp = refined.T_camera_object;
       check->segicp_score = ScoreAlignment(crop.points_model, refined.T_camera_object, grid, options.alignment).score;
     }
-    check->observability = AnalyseObservability(model, check->T_camera_object_segicp, grid, options.observability);
+    // A converged refinement's last equations are the analysis at its result (within refine_step_m).
+    check->observability =
+        refined.converged
+            ? ProbeObservability(model, crop, check->T_camera_object_segicp, grid, options.observability, refined.observability)
+            : AnalyseObservability(model, check->T_camera_object_segicp, grid, options.observability, &crop);
     PolishProbedDirections(grid, model, options, check);
     ScoreEstimate(label, options, check);
   }

@@ -51,6 +51,7 @@ void ObservabilityOptions::check() const {
   if (!(support_distance_m > 0)) throw InputError("ObservabilityOptions", "support_distance_m must be positive");
   if (!(normal_radius_m > 0)) throw InputError("ObservabilityOptions", "normal_radius_m must be positive");
   if (refine_iterations < 0) throw InputError("ObservabilityOptions", "refine_iterations must be >= 0");
+  if (!(refine_step_m > 0)) throw InputError("ObservabilityOptions", "refine_step_m must be positive");
   if (max_points < 100) throw InputError("ObservabilityOptions", "max_points must be >= 100");
   if (!(robust_sigmas >= 0 && robust_sigmas <= 100)) throw InputError("ObservabilityOptions", "robust_sigmas must lie in [0, 100]");
 }
@@ -178,10 +179,9 @@ double SupportedShare(const PointCloud& crop_model, const Rigid3d& T_camera_obje
 }
 
 /// Probes every direction not judged by its information: both ways, the larger loss counts.
-void Probe(const CropSource& model, const Rigid3d& T_camera_object, const PointGrid& scene,
+void Probe(const CropSource& model, const ModelCrop& crop, const Rigid3d& T_camera_object, const PointGrid& scene,
            const ObservabilityOptions& options, Observability* o) {
-  const double base = SupportedShare(model.Crop(T_camera_object).points_model, T_camera_object, scene,
-                                     options.probe_support_m, options.max_points);
+  const double base = SupportedShare(crop.points_model, T_camera_object, scene, options.probe_support_m, options.max_points);
   for (int k = 0; k < 6; ++k) {
     if (o->judged[k]) continue;
     double loss = 0.0;
@@ -203,18 +203,23 @@ PointCloud NormalsOf(const ModelCrop& crop, const Rigid3d& T_camera_object, doub
 }  // namespace
 
 Observability AnalyseObservability(const CropSource& model, const Rigid3d& T_camera_object, const PointGrid& scene_camera,
-                                   const ObservabilityOptions& options) {
-  const ModelCrop crop = model.Crop(T_camera_object);
+                                   const ObservabilityOptions& options, const ModelCrop* crop_near_pose) {
+  const ModelCrop own = crop_near_pose ? ModelCrop{} : model.Crop(T_camera_object);
+  const ModelCrop& crop = crop_near_pose ? *crop_near_pose : own;
   const PointCloud normals = NormalsOf(crop, T_camera_object, options.normal_radius_m);
-  Observability out =
-      Analyse(Build(crop.points_model, normals, T_camera_object, scene_camera, options.support_distance_m, options.max_points,
-            options.robust_sigmas),
-              options);
-  if (out.analysed) {
-    Probe(model, T_camera_object, scene_camera, options, &out);
-    SummariseObservability(&out);
+  return ProbeObservability(model, crop, T_camera_object, scene_camera, options,
+                            Analyse(Build(crop.points_model, normals, T_camera_object, scene_camera,
+                                          options.support_distance_m, options.max_points, options.robust_sigmas),
+                                    options));
+}
+
+Observability ProbeObservability(const CropSource& model, const ModelCrop& crop, const Rigid3d& T_camera_object,
+                                 const PointGrid& scene_camera, const ObservabilityOptions& options, Observability analysed) {
+  if (analysed.analysed) {
+    Probe(model, crop, T_camera_object, scene_camera, options, &analysed);
+    SummariseObservability(&analysed);
   }
-  return out;
+  return analysed;
 }
 
 namespace {
@@ -278,7 +283,8 @@ PlaneRefinement RefinePointToPlane(const ModelCrop& crop, const Rigid3d& T_camer
     step += weak_step;
     out.T_camera_object = Moved(out.T_camera_object, step, e.center, e.radius_m);
     out.iterations = iteration + 1;
-    if (step.tail<3>().norm() < 1e-6 && step.head<3>().norm() < 1e-5 * e.radius_m) break;
+    out.converged = step.tail<3>().norm() < options.refine_step_m && step.head<3>().norm() < options.refine_step_m;
+    if (out.converged) break;
   }
   return out;
 }

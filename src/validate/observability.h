@@ -42,6 +42,10 @@ struct ObservabilityOptions {
   int max_points = 3000;
   /// Gauss-Newton iterations of the point-to-plane refinement (RefinePointToPlane); 0: none.
   int refine_iterations = 10;
+  /// The refinement stops once a step moves the pose less than this, in translation and in rotation
+  /// (arc at the crop's radius), metres: a hundredth of the depth's noise. A micrometre kept the robust
+  /// fit reweighting for all its iterations after it had converged.
+  double refine_step_m = 1e-5;
   /// Residuals are weighted by a Geman-McClure kernel at this many robust standard deviations (MAD) of
   /// the residuals, so points of something else on the object's surface (fingers holding it) do not
   /// pull the estimate; 0: plain least squares.
@@ -71,9 +75,15 @@ struct Observability {
 
 /// The analysis at T_camera_object for the crop seen from there (normals estimated when it has none)
 /// against the scene index (camera frame); directions below min_information are probed with crops from
-/// `model` (the frame's crop source) and judged observable when the probe loses support.
+/// `model` (the frame's crop source) and judged observable when the probe loses support. A caller that
+/// holds a crop taken within a refinement step of T_camera_object passes it as `crop_near_pose` (what a
+/// millimetre's move changes in a crop is a few points at its outline), saving two crops.
 Observability AnalyseObservability(const CropSource& model, const Rigid3d& T_camera_object, const PointGrid& scene_camera,
-                                   const ObservabilityOptions& options);
+                                   const ObservabilityOptions& options, const ModelCrop* crop_near_pose = nullptr);
+/// The same from an analysis of the normal equations already made at (within refine_step_m of)
+/// T_camera_object with `crop` (a converged RefinePointToPlane's): only the probe and the summary run.
+Observability ProbeObservability(const CropSource& model, const ModelCrop& crop, const Rigid3d& T_camera_object,
+                                 const PointGrid& scene_camera, const ObservabilityOptions& options, Observability analysed);
 
 /// Point-to-plane refinement of an estimate (Chen & Medioni), moving it only in the directions with
 /// information above min_information: point-to-point ICP creeps along weakly constrained directions (a table seen with one edge),
@@ -83,6 +93,8 @@ struct PlaneRefinement {
   Observability observability;  ///< at the last iteration's start
   int iterations = 0;
   double rmse_m = 0.0;  ///< point-to-plane residual RMS at the last iteration's start
+  /// The last step moved less than refine_step_m: `observability` holds the equations at the result.
+  bool converged = false;
 };
 /// `first_gate_m`: the correspondence gate of the first iteration (a tracking prediction may be a
 /// centimetre or two off); later ones use options.support_distance_m. `probed`: an analysis at (or

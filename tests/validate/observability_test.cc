@@ -242,3 +242,42 @@ TEST(Observability, PrecisionFollowsTheNormalEquations) {
 
 }  // namespace
 }  // namespace mocap
+
+namespace mocap {
+namespace {
+
+// A refinement that converged (its last step below refine_step_m) carries the normal equations at its
+// result: probing them gives what a fresh analysis there gives (the label check skips the rebuild).
+TEST(Observability, AConvergedRefinementCarriesTheAnalysisAtItsResult) {
+  const TriangleMesh cone = Cone();
+  const SurfaceCropSource surface = SurfaceCropSource::FromMesh(cone, CropOptions{});
+  const CachedCropSource model(surface, CropCacheOptions{});
+  const Rigid3d truth = Rigid3d::FromRvec({1.9, 0.2, 0.3}, {0.02, 0.01, 0.7});
+  std::mt19937 rng(7);
+  const Frame frame = SplatFrame(cone, truth, rng);
+  const PointCloud scene = VoxelDownsample(DepthToPointsMasked(frame.depth, Kinect(), frame.mask, 4), 0.003);
+  const PointGrid grid(scene);
+  const Rigid3d start = truth * Rigid3d::FromRvec({RadFromDeg(1.5), 0, 0}, {0.003, -0.002, 0.002});
+  const ObservabilityOptions options;
+  const ModelCrop crop = model.Crop(start);
+  const PlaneRefinement refined = RefinePointToPlane(crop, start, grid, options);
+  ASSERT_TRUE(refined.converged);
+  EXPECT_LT(refined.iterations, options.refine_iterations);
+  EXPECT_LT(TranslationDistanceM(refined.T_camera_object, truth), 0.002);
+  const Observability carried = ProbeObservability(model, crop, refined.T_camera_object, grid, options, refined.observability);
+  const Observability fresh = AnalyseObservability(model, refined.T_camera_object, grid, options, &crop);
+  ASSERT_TRUE(carried.analysed && fresh.analysed);
+  EXPECT_EQ(carried.observable, fresh.observable);
+  EXPECT_EQ(carried.unobservable, fresh.unobservable);
+  for (int k = 0; k < 6; ++k) EXPECT_NEAR(carried.information(k), fresh.information(k), 0.02 * fresh.information(k) + 1e-4) << k;
+  EXPECT_NEAR(carried.residual_rms_m, fresh.residual_rms_m, 1e-4);
+}
+
+TEST(Observability, RejectsANonPositiveRefinementStop) {
+  ObservabilityOptions options;
+  options.refine_step_m = 0.0;
+  EXPECT_THROW(options.check(), InputError);
+}
+
+}  // namespace
+}  // namespace mocap
