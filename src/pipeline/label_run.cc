@@ -33,6 +33,9 @@ void AddPoseFields(json& j, const LabelRecord& r) {
   j["px_count_all"] = r.px_count_all;
   j["px_count_valid"] = r.px_count_valid ? json(*r.px_count_valid) : json();
   j["px_count_visib"] = r.px_count_visib;
+  j["px_count_visib_measured"] = r.px_count_visib_measured ? json(*r.px_count_visib_measured) : json();
+  j["px_count_visib_assumed"] = r.px_count_visib_assumed ? json(*r.px_count_visib_assumed) : json();
+  j["mask_confidence"] = r.mask_confidence ? json(*r.mask_confidence) : json();
   j["visib_fract"] = r.visib_fract;
   j["visib_fract_model"] = r.visib_fract_model;
   j["visib_source"] = r.visib_source;
@@ -56,6 +59,13 @@ void ReadPoseFields(const JsonFields& f, LabelRecord& r) {
   r.px_count_all = f.Integer("px_count_all");
   if (f.Has("px_count_valid") && !f["px_count_valid"].is_null()) r.px_count_valid = f.Integer("px_count_valid");
   r.px_count_visib = f.Integer("px_count_visib");
+  const auto optional_integer = [&](const char* key) -> std::optional<int64_t> {
+    if (!f.Has(key) || f[key].is_null()) return std::nullopt;
+    return f.Integer(key);
+  };
+  r.px_count_visib_measured = optional_integer("px_count_visib_measured");
+  r.px_count_visib_assumed = optional_integer("px_count_visib_assumed");
+  r.mask_confidence = f.OptionalNumber("mask_confidence");
   r.visib_fract = f.Number("visib_fract");
   r.visib_fract_model = f.Number("visib_fract_model");
   r.visib_source = f.String("visib_source");
@@ -135,6 +145,10 @@ LabelRecord MakeLabelRecord(const LabelledFrame& frame, const InstanceResult& re
   r.bbox_obj = s.bbox_obj, r.bbox_visib = s.bbox_visib;
   r.px_count_all = s.px_count_all, r.px_count_visib = s.px_count_visib;
   if (frame.has_measured_depth) r.px_count_valid = s.px_count_valid;
+  if (frame.has_measured_depth && s.mask_confidence >= 0) {
+    r.px_count_visib_measured = s.px_count_visib_measured, r.px_count_visib_assumed = s.px_count_visib_assumed;
+    r.mask_confidence = s.mask_confidence;
+  }
   r.visib_fract = s.visib_fract, r.visib_fract_model = s.visib_fract_model;
   r.visib_source = frame.has_measured_depth ? "measured_depth" : "model";
   if (result.packed != nullptr) {

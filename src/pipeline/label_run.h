@@ -43,6 +43,11 @@ struct LabelRecord {
   std::array<int, 4> bbox_obj{}, bbox_visib{};
   int64_t px_count_all = 0, px_count_visib = 0;
   std::optional<int64_t> px_count_valid;  ///< with measured depth only
+  /// With measured depth only: visible pixels the depth confirms, visible pixels without depth (by the
+  /// hole rule or the model), and their share (label/object_labels.h ObjectStats). Absent in label runs
+  /// written before these fields.
+  std::optional<int64_t> px_count_visib_measured, px_count_visib_assumed;
+  std::optional<double> mask_confidence;
   double visib_fract = 0, visib_fract_model = 0;
   std::string visib_source;                ///< "measured_depth" or "model"
   bool has_mask_fields = false;            ///< masks written: mask_rect/mask_row present (null when empty)

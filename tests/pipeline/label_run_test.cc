@@ -176,6 +176,19 @@ TEST(LabelRun, RecordsRoundTripThroughTheirOneReaderAndWriter) {
   for (std::string line; std::getline(file, line); ++lines)
     EXPECT_EQ(pipeline::ToJson(pipeline::LabelRecordFromJson(nlohmann::json::parse(line), "labels.jsonl")).dump(), line);
   EXPECT_EQ(lines, 2);
+  // With measured depth the visible mask's split into measured and assumed pixels is written.
+  const pipeline::LabelRecord first = pipeline::LabelRecordFromJson(
+      nlohmann::json::parse(ReadBytes(in.dir / "L" / "labels.jsonl").substr(0, ReadBytes(in.dir / "L" / "labels.jsonl").find('\n'))),
+      "labels.jsonl:1");
+  ASSERT_TRUE(first.has_pose && first.px_count_valid);
+  ASSERT_TRUE(first.px_count_visib_measured && first.px_count_visib_assumed && first.mask_confidence);
+  EXPECT_EQ(*first.px_count_visib_measured + *first.px_count_visib_assumed, first.px_count_visib);
+  EXPECT_GE(*first.mask_confidence, 0.0);
+  EXPECT_LE(*first.mask_confidence, 1.0);
+  // A label run written before those fields still reads.
+  nlohmann::json older = pipeline::ToJson(first);
+  for (const char* key : {"px_count_visib_measured", "px_count_visib_assumed", "mask_confidence"}) older.erase(key);
+  EXPECT_FALSE(pipeline::LabelRecordFromJson(older, "labels.jsonl:1").mask_confidence);
   nlohmann::json bad = nlohmann::json::parse(ReadBytes(in.dir / "L" / "labels.jsonl").substr(0, ReadBytes(in.dir / "L" / "labels.jsonl").find('\n')));
   bad.erase("instance");
   EXPECT_THROW(pipeline::LabelRecordFromJson(bad, "labels.jsonl:1"), InputError);
