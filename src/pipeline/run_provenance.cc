@@ -50,7 +50,8 @@ nlohmann::json ToJson(const LabelOptions& o) {
           {"speed_half_window_ns", o.chain.speed_half_window_ns},
           {"fast_motion_m_per_s", o.chain.fast_motion_m_per_s},
           {"fast_motion_deg_per_s", o.chain.fast_motion_deg_per_s},
-          {"visibility", {{"delta_base_m", o.visibility.delta_base_m}, {"noise_sigmas", o.visibility.noise_sigmas},
+          {"visibility", {{"rule", ToString(o.visibility.rule)},
+                          {"delta_base_m", o.visibility.delta_base_m}, {"noise_sigmas", o.visibility.noise_sigmas},
                           {"noise_coeff_per_m", o.visibility.noise_coeff_per_m}}},
           {"back_face_culling", ToString(o.renderer.back_face_culling)},
           {"outside_margin_fraction", o.renderer.outside_margin_fraction}};
@@ -84,6 +85,9 @@ LabelOptions LabelOptionsFromJson(const nlohmann::json& json, const std::string&
   o.chain.fast_motion_m_per_s = f.Number("fast_motion_m_per_s");
   o.chain.fast_motion_deg_per_s = f.Number("fast_motion_deg_per_s");
   const JsonFields vis(f["visibility"], where + " options.visibility");
+  // Runs written before the rule was recorded used BOP's (the only rule then): they are stale under another.
+  o.visibility.rule = vis.Has("rule") ? ParseVisibilityRule(vis.String("rule"), where + " options.visibility.rule")
+                                      : VisibilityRule::kBop19;
   o.visibility.delta_base_m = vis.Number("delta_base_m");
   o.visibility.noise_sigmas = vis.Number("noise_sigmas");
   o.visibility.noise_coeff_per_m = vis.Number("noise_coeff_per_m");
