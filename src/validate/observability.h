@@ -43,8 +43,8 @@ struct ObservabilityOptions {
   /// Gauss-Newton iterations of the point-to-plane refinement (RefinePointToPlane); 0: none.
   int refine_iterations = 10;
   /// The refinement stops once a step moves the pose less than this, in translation and in rotation
-  /// (arc at the crop's radius), metres: a hundredth of the depth's noise. A micrometre kept the robust
-  /// fit reweighting for all its iterations after it had converged.
+  /// (arc at the crop's radius), metres: a hundredth of the depth's noise. Much less keeps the robust
+  /// fit reweighting for all its iterations after it has converged.
   double refine_step_m = 1e-5;
   /// Residuals are weighted by a Geman-McClure kernel at this many robust standard deviations (MAD) of
   /// the residuals, so points of something else on the object's surface (fingers holding it) do not

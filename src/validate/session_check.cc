@@ -279,13 +279,11 @@ void CheckTracked(const FrameInputs& in, const SessionReader& session, const Obj
   }
 }
 
-/// A group of records in frame order, each instance through its own tracker; each frame's inputs are
-/// read once for all of its records (a frame of four objects was read four times).
+/// A group of one camera's records in frame order, each instance through its own tracker; each frame's
+/// inputs are read once for all of its records (a frame of four objects was read four times).
 void CheckTracks(const SessionReader& session, const LabelRunView& labels, const std::map<int, ObjectModel>& models,
                  const SessionCheckOptions& options, std::vector<RecordCheck>& records, std::vector<size_t> group) {
-  std::stable_sort(group.begin(), group.end(), [&](size_t a, size_t b) {
-    return std::tie(records[a].camera, records[a].index) < std::tie(records[b].camera, records[b].index);
-  });
+  std::stable_sort(group.begin(), group.end(), [&](size_t a, size_t b) { return records[a].index < records[b].index; });
   struct Track {
     ObjectTracker tracker;
     int64_t last_stamp_ns = 0;
@@ -294,7 +292,7 @@ void CheckTracks(const SessionReader& session, const LabelRunView& labels, const
   std::optional<FrameInputs> in;
   for (size_t n = 0; n < group.size(); ++n) {
     RecordCheck& r = records[group[n]];
-    if (n == 0 || r.index != records[group[n - 1]].index || r.camera != records[group[n - 1]].camera)
+    if (n == 0 || r.index != records[group[n - 1]].index)
       in.emplace(LoadFrame(session, labels, r.camera, r.index, options));
     const ObjectModel& model = models.at(r.object);
     Track& track = tracks.try_emplace(r.instance, Track{ObjectTracker(*model.crops, model.options)}).first->second;

@@ -35,9 +35,8 @@ struct TrackingOptions {
   /// A tracking step's agreement stands only when the label's difference lies within this fraction of
   /// the accept bounds; a closer call, like a disagreement, is checked again by a full acquisition. A
   /// track carries its start's estimate along directions the surface barely constrains (a bottle's
-  /// spin), so near the bound a tracked estimate is weaker evidence than an acquisition. At 0.5 a ninth
-  /// of the demo's records were re-checked, a third of the run's CPU; 0.7 re-checks a quarter as many,
-  /// with the same accuracy over the sweep's scenarios (docs/validation.md).
+  /// spin), so near the bound a tracked estimate is weaker evidence than an acquisition. Chosen on the
+  /// accuracy sweep against the cost of the re-checks (docs/validation.md, parameters).
   double confirm_fraction = 0.7;
   /// The tracking step is point-to-plane from the prediction in the observable directions
   /// (RefinePointToPlane, observability.refine_iterations); its first correspondence gate, metres.
