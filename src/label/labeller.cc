@@ -8,6 +8,7 @@
 #include <time.h>
 
 #include "core/check.h"
+#include "label/depth_in_color.h"
 #include "render/mesh.h"
 #include "render/mesh_closure.h"
 
@@ -55,7 +56,7 @@ struct FrameTally {
 struct CameraJob {
   std::string camera;
   std::unique_ptr<PoseChain> chain;
-  bool depth_registered = false;
+  DepthInColor depth;  ///< how its measured depth reaches the colour image
   int64_t begin = 0, end = 0;  ///< the frames labelled
   std::vector<FrameTally> tallies;
 };
@@ -128,10 +129,12 @@ void LabelFrame(const SessionReader& session, const std::vector<LabelObject>& ob
   clock.Lap(worker, &LabelStageSeconds::labels);  // the pose chain's lookups
   worker.renderer.Render(chain.camera(), items, worker.render);
   clock.Lap(worker, &LabelStageSeconds::render);
-  const DepthImage depth = entry.depth_present && job.depth_registered
-                               ? LoadOrFlag<DepthImage>([&] { return session.LoadDepth(job.camera, index); },
-                                                        "unreadable_depth", options, results)
-                               : DepthImage();
+  // Kinect v2: registered into the colour image here; its holes (the baseline's occlusion shadows) are
+  // judged by the visibility rule like any other.
+  const DepthImage depth =
+      entry.depth_present ? LoadOrFlag<DepthImage>([&] { return LoadDepthInColor(session, job.camera, index, job.depth); },
+                                                   "unreadable_depth", options, results)
+                          : DepthImage();
   const bool use_depth = !depth.data.empty();
   const bool overlay = options.output.write_overlay && entry.color_present;
   const cv::Mat color = overlay ? LoadOrFlag<cv::Mat>([&] { return session.LoadColor(job.camera, index); },
@@ -276,8 +279,10 @@ LabelSummary LabelSession(const SessionReader& session, const std::vector<LabelO
                      "import: Motive, PLUS and trajectory files carry poses, not images)");
   std::vector<CameraJob> jobs;
   for (const std::string& camera : cameras) {
-    CameraJob job{camera, std::make_unique<PoseChain>(session, camera, objects, rig, options.chain), false, 0, 0, {}};
-    job.depth_registered = session.manifest().FindCamera(camera)->depth_registered_to_color;
+    CameraJob job{camera, std::make_unique<PoseChain>(session, camera, objects, rig, options.chain), {}, 0, 0, {}};
+    const LabelRigCamera* calibrated = rig.Find(camera);
+    job.depth = DepthInColor::Of(*session.manifest().FindCamera(camera), job.chain->camera(),
+                                 calibrated ? calibrated->T_color_depth : std::nullopt);
     const int64_t frames = session.frame_count(camera);
     job.begin = std::min(options.frame_begin, frames);
     job.end = options.frame_end < 0 ? frames : std::min(options.frame_end, frames);

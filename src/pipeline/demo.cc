@@ -22,8 +22,6 @@ namespace fs = std::filesystem;
 /// Scores a label run; the label's visible masks use the measured depth where it is registered.
 LabelScores Score(const PipelineContext& c) {
   const SessionReader session = SessionReader::Open(c.session_dir);
-  // The measured-depth visibility needs depth registered to the colour image (Kinect v1).
-  if (!session.manifest().FindCamera(c.camera)->depth_registered_to_color) return ScoreLabels(c.labels_dir, c.truth_dir);
   const Rig rig = ReadRig(c.rig_file);
   const RigCameraCalibration* calibrated = rig.Find(c.camera);
   const PinholeCamera camera = calibrated && calibrated->intrinsics ? *calibrated->intrinsics

@@ -9,6 +9,7 @@
 
 #include "core/check.h"
 #include "core/rigid3.h"
+#include "label/depth_in_color.h"
 #include "session/manifest.h"
 #include "session/reader.h"
 #include "pipeline/json_read.h"
@@ -93,7 +94,13 @@ void ScoreFrame(const std::vector<const LabelRecord*>& records, const TruthPoses
   if (label_ids.size() != true_ids.size())
     throw InputError(labels.dir.string(), Str("instance image of frame ", index, " differs in size from the truth's"));
   std::map<uint16_t, Image<uint8_t>> measured;
-  if (masks && session) measured = masks->Masks(poses, session->LoadDepth(camera, index));
+  if (masks && session) {
+    // As the labeller reads it: in the colour image (a Kinect v2's depth registered there).
+    const CameraStreamInfo* info = session->manifest().FindCamera(camera);
+    if (!info) throw InputError(session->dir().string(), Str("labels name camera '", camera, "', not in the session"));
+    const DepthInColor registration = DepthInColor::Of(*info, masks->camera());
+    measured = masks->Masks(poses, LoadDepthInColor(*session, camera, index, registration));
+  }
   for (size_t i = 0; i < scored.size(); ++i) {
     RecordScore& s = scored[i];
     const int true_id = frame_truth->second.at(s.object).id;

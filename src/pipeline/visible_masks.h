@@ -34,6 +34,7 @@ class VisibleMaskRenderer {
   ~VisibleMaskRenderer();
   /// Full-image masks (1 = visible) per instance. Precondition: measured depth has the camera's size.
   std::map<uint16_t, Image<uint8_t>> Masks(const std::vector<LabelledPose>& poses, const DepthImage& measured_depth_m);
+  const PinholeCamera& camera() const { return camera_; }
 
  private:
   PinholeCamera camera_;

@@ -67,12 +67,10 @@ class VisibleMaskSweep : public ::testing::TestWithParam<std::string> {
     return s;
   }
 
-  /// The label run's scores with the visible masks of `rule`; the instance images' when the session's
-  /// depth is not registered to the colour image (Kinect v2).
+  /// The label run's scores with the visible masks of `rule` (a Kinect v2's depth registered to the
+  /// colour image first, as the labeller does).
   pipeline::LabelScores Score(const sim::RecordResult& record, const fs::path& labels, VisibilityRule rule) const {
     const SessionReader session = SessionReader::Open(record.session_dir);
-    if (!session.manifest().FindCamera(record.camera_name)->depth_registered_to_color)
-      return pipeline::ScoreLabels(labels, record.truth_dir);
     fs::path objects = labels;
     objects += ".inputs";
     VisibilityOptions visibility;
@@ -138,17 +136,17 @@ std::string SceneName(const ::testing::TestParamInfo<std::string>& info) {
 
 // What depth can tell: each case of docs/labels.md "Depth holes" (close range, a close object
 // in front of a far one, a hand in front of each object, surfaces that lose depth, several objects
-// moving, a far camera), the default scene (the demo's, 300 frames) and the default scene mid-carry.
+// moving, a far camera, a Kinect v2 whose depth is registered to the colour image by the labeller), the
+// default scene (the demo's, 300 frames) and the default scene mid-carry.
 INSTANTIATE_TEST_SUITE_P(Scenes, VisibleMaskSweep,
                          ::testing::Values("default", "accuracy/carry", "accuracy/far", "accuracy/hand_front",
                                            "accuracy/hand_passes", "accuracy/two_moving", "labels/close_range",
-                                           "labels/close_in_front", "labels/dark_surfaces"),
+                                           "labels/close_in_front", "labels/dark_surfaces", "accuracy/kinect2"),
                          SceneName);
 // Beyond it: a hand nearer than the Kinect v1's range in front of the object (wholly or partly without
-// depth: handheld, close, hand_close), and a Kinect v2, whose depth is not registered to the colour
-// image, so the labeller's visible mask is the z-buffer's.
+// depth: handheld, close, hand_close).
 INSTANTIATE_TEST_SUITE_P(Scenes, VisibleMaskLimits,
-                         ::testing::Values("accuracy/handheld", "accuracy/close", "accuracy/kinect2", "labels/hand_close"),
+                         ::testing::Values("accuracy/handheld", "accuracy/close", "labels/hand_close"),
                          SceneName);
 
 }  // namespace
