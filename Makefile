@@ -4,7 +4,7 @@ ASAN_DIR  ?= build-asan
 JOBS      ?= $(shell nproc)
 CMAKE_FLAGS ?=
 
-.PHONY: all deps configure build build-cli build-asan demo test test-unit test-asan accuracy bench fuzz clean
+.PHONY: all deps configure build build-cli build-asan demo test test-unit test-asan accuracy soak bench fuzz clean
 
 all: build
 
@@ -30,12 +30,16 @@ demo: build-cli
 	scripts/demo.sh $(BUILD_DIR)/src/cli/mocaplabel demo-out
 
 # The accuracy sweeps (label "accuracy": the validator's must-shows on simulated sessions, minutes of
-# CPU each) run in `make accuracy`, before an accuracy claim is made, not in every `make test`.
+# CPU each) run in `make accuracy`, before an accuracy claim is made, and the long recordings (label
+# "soak": a minute or more of wall time each) in `make soak`; neither is part of every `make test`.
 test-unit: build
-	ctest --test-dir $(BUILD_DIR) --output-on-failure -j $(JOBS) -LE accuracy
+	ctest --test-dir $(BUILD_DIR) --output-on-failure -j $(JOBS) -LE 'accuracy|soak'
 
 accuracy: build
 	ctest --test-dir $(BUILD_DIR) --output-on-failure -j $(JOBS) -L accuracy
+
+soak: build
+	ctest --test-dir $(BUILD_DIR) --output-on-failure -j $(JOBS) -L soak
 
 # Unit tests again under AddressSanitizer + UndefinedBehaviorSanitizer (end-to-end runs excluded: slow).
 # Tests that render through EGL (in process, or in the mocaplabel processes they start) run without LeakSanitizer: Mesa's llvmpipe keeps process-lifetime
