@@ -1,5 +1,6 @@
 // The daemon's Kinect2 source (sources.h) and the camera choice of the rig's capture: section.
 #include <atomic>
+#include <cmath>
 #include <mutex>
 #include <thread>
 #include <opencv2/imgcodecs.hpp>
@@ -68,6 +69,11 @@ class Kinect2Source final : public CaptureSource {
     out.camera = name();
     out.record.device_ticks = frame.color_ticks;
     out.record.stamp_ns = frame.color_host_ns;
+    // libfreenect2 pairs a depth image with the colour image after it; their device timestamps say how
+    // far apart they were exposed (about 15 ms), which a check of moving objects against the depth needs.
+    if (frame.ticks_per_second > 0 && frame.depth_ticks != frame.color_ticks)
+      out.record.depth_stamp_ns = frame.color_host_ns - std::llround(static_cast<double>(frame.color_ticks - frame.depth_ticks) *
+                                                                     1e9 / frame.ticks_per_second);
     const bool as_sent = frame.color_jpeg != nullptr;
     if (as_sent) {
       out.color_jpeg = std::move(frame.color_jpeg);

@@ -181,7 +181,10 @@ class SessionCameraReplay final : public CaptureSource {
       ++unreadable_;
       return;
     }
-    loaded.frame.record.stamp_ns = due_ns;
+    // The depth keeps its offset from the colour exposure it was paired with (Kinect v2).
+    CameraFrameRecord& record = loaded.frame.record;
+    if (record.depth_stamp_ns != 0) record.depth_stamp_ns = due_ns + (record.depth_stamp_ns - record.stamp_ns);
+    record.stamp_ns = due_ns;
     sink->PushFrame(std::move(loaded.frame));
     std::lock_guard lock(mutex_);
     ++replayed_;

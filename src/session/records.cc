@@ -1,6 +1,7 @@
 #include "session/records.h"
 
 #include <cstdio>
+#include <cstdlib>
 
 #include "core/check.h"
 #include "session/json_fields.h"
@@ -8,6 +9,10 @@
 
 namespace mocap {
 using namespace json_fields;
+
+namespace {
+constexpr int64_t kMaxDepthColourGapNs = 1'000'000'000;
+}  // namespace
 
 std::string FrameFileStem(int64_t index) {
   char name[32];
@@ -20,6 +25,7 @@ bool CarriesPose(PoseStatus status) { return status != PoseStatus::kMissing && s
 nlohmann::json ToJson(const CameraFrameRecord& record) {
   nlohmann::json json = {{"frame", record.frame}, {"device_ticks", record.device_ticks},
                          {"stamp_ns", record.stamp_ns}, {"source_id", record.source_id}};
+  if (record.depth_stamp_ns != 0) json["depth_stamp_ns"] = record.depth_stamp_ns;
   if (record.has_color()) json["color"] = record.color_file;
   if (record.has_depth()) json["depth"] = record.depth_file;
   return json;
@@ -30,6 +36,11 @@ CameraFrameRecord CameraFrameRecordFromJson(const nlohmann::json& json, const st
   record.frame = Int(json, "frame", where);
   record.device_ticks = Int(json, "device_ticks", where);
   record.stamp_ns = Int(json, "stamp_ns", where);
+  record.depth_stamp_ns = IntOr(json, "depth_stamp_ns", 0, where);
+  // A depth exposure is paired with the colour one it was taken beside; seconds apart is a corrupt record.
+  if (record.depth_stamp_ns != 0 && std::llabs(record.depth_stamp_ns - record.stamp_ns) > kMaxDepthColourGapNs)
+    throw InputError(where, Str("depth_stamp_ns is ", (record.depth_stamp_ns - record.stamp_ns) / 1000000,
+                                " ms from stamp_ns (at most 1000 ms)"));
   record.source_id = String(json, "source_id", where);
   record.color_file = StringOr(json, "color", "", where);
   record.depth_file = StringOr(json, "depth", "", where);

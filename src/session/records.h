@@ -12,8 +12,9 @@
 namespace mocap {
 
 /// One record of a camera stream: a colour image, a depth image, or both taken together (Kinect1
-/// registered). Kinect2's colour and depth are not synchronised: they are written as separate records,
-/// each with its own stamp.
+/// registered). A Kinect v2 exposes its colour some 15 ms after its depth: the capture pairs the two into
+/// one record stamped at the colour, with the depth's own time in depth_stamp_ns; an importer may write
+/// each as its own record with its own stamp.
 struct CameraFrameRecord {
   int64_t frame = 0;         ///< device frame number (or the importer's running index)
   int64_t device_ticks = 0;  ///< device timestamp in device ticks (0 when the source has none)
@@ -22,8 +23,13 @@ struct CameraFrameRecord {
   /// Image files relative to the camera folder (e.g. "color/000012.png"); filled by the writer. Empty
   /// when the record carries no such image.
   std::string color_file, depth_file;
+  /// Host time (ns) of the depth exposure where a record pairs depth taken apart from its colour (a
+  /// Kinect v2: libfreenect2 gives each image its own device timestamp); 0 = taken at stamp_ns.
+  int64_t depth_stamp_ns = 0;
 
   bool has_color() const { return !color_file.empty(); }
+  /// When the depth image was taken: depth_stamp_ns, or stamp_ns when the record does not set it.
+  int64_t depth_time_ns() const { return depth_stamp_ns != 0 ? depth_stamp_ns : stamp_ns; }
   bool has_depth() const { return !depth_file.empty(); }
 };
 

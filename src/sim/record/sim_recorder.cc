@@ -126,6 +126,7 @@ void WriteFrame(const SimFrame& frame, const FrameTruth& truth, FrameWriters& ou
   // The labelled image is the colour image: its exposure is the frame's time (Kinect v2 depth was taken
   // colour_delay_ms earlier; Kinect v1 at the same instant).
   record.stamp_ns = truth.color_time_ns;
+  if (truth.depth_time_ns != truth.color_time_ns) record.depth_stamp_ns = truth.depth_time_ns;
   out.session.WriteCameraFrame(out.camera, record, bgr, depth);
   if (out.tap) out.tap->Add(bgr, depth, static_cast<uint64_t>(record.device_ticks), truth.depth_time_ns * 1e-9);
 }
