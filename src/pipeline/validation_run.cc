@@ -46,6 +46,10 @@ nlohmann::json ToJson(const RecordCheck& r) {
                       {"scene_points", c.scene_points},
                       {"label_rvec", Vec(r.T_camera_object_label.rvec())},
                       {"label_t_m", Vec(r.T_camera_object_label.translation())}};
+  if (r.depth_offset_ns != 0) {  // depth taken apart from colour: the label moved to the depth's exposure, or not
+    j["depth_offset_ns"] = r.depth_offset_ns;
+    j["label_shift_ns"] = r.label_shift_ns;
+  }
   j["estimated"] = c.estimated;
   if (c.estimated) {
     j["segicp_rvec"] = Vec(c.T_camera_object_segicp.rvec());
@@ -89,6 +93,7 @@ RecordCheck RecordCheckFromJson(const nlohmann::json& j, const std::string& wher
   r.object = static_cast<int>(f.Integer("object")), r.name = f.String("name");
   r.instance = static_cast<int>(f.Integer("instance")), r.mode = f.String("mode");
   r.T_camera_object_label = Rigid3d::FromRvec(f.Vector3("label_rvec"), f.Vector3("label_t_m"));
+  if (f.Has("depth_offset_ns")) r.depth_offset_ns = f.Integer("depth_offset_ns"), r.label_shift_ns = f.Integer("label_shift_ns");
   LabelCheck& c = r.check;
   c.verdict = ParseEnum<Verdict>(f, "verdict", Verdict::kReject);
   c.reason_code = ParseEnum<VerdictReason>(f, "reason_code", VerdictReason::kUnreadableInput);
@@ -145,6 +150,10 @@ nlohmann::json ValidationSummaryJson(const ValidationSummary& s, const SessionCh
   for (const char* v : {"accept", "suspect", "reject"})
     if (!j["verdicts"].contains(v)) j["verdicts"][v] = 0;
   if (!s.nothing_checked_why.empty()) j["nothing_checked_why"] = s.nothing_checked_why;
+  if (s.labels_moved_to_depth_time + s.labels_not_movable_to_depth_time > 0) {
+    j["labels_moved_to_depth_time"] = s.labels_moved_to_depth_time;
+    j["labels_not_movable_to_depth_time"] = s.labels_not_movable_to_depth_time;
+  }
   if (s.has_segmentation)
     j["segmentation"] = {{"iou", StatJson(s.iou)}, {"precision", StatJson(s.precision)}, {"recall", StatJson(s.recall)}};
   return j;

@@ -55,6 +55,8 @@ ValidationSummary Summarise(const std::vector<RecordCheck>& records, int64_t tot
     const LabelCheck& c = r.check;
     ++s.verdicts[std::string(ToString(c.verdict))];
     ++s.reasons[std::string(ToString(c.reason_code))];
+    if (r.label_shift_ns != 0) ++s.labels_moved_to_depth_time;
+    else if (r.depth_offset_ns != 0) ++s.labels_not_movable_to_depth_time;
     if (c.estimated) {
       position.push_back(c.errors.position_mm);
       axis.push_back(c.errors.rotation_axis_deg);

@@ -14,6 +14,7 @@
 #include "core/depth_registration.h"
 #include "render/mesh.h"
 #include "session/records.h"
+#include "validate/depth_time.h"
 #include "validate/frame_visibility.h"
 #include "validate/rendered_crop.h"
 
@@ -321,6 +322,8 @@ SessionValidation CheckSession(const SessionReader& session, const std::vector<V
   MOCAP_CHECK(labels.instance_png && labels.overlay_png, "a label run view without its file paths");
   const auto start = std::chrono::steady_clock::now();
   std::vector<RecordCheck>& records = labels.records;
+  // Before any record is left out, so that a left-out frame's label still brackets its neighbours' depth.
+  MoveLabelsToDepthTime(session, records);
   const auto skipped = std::erase_if(records, [&](const RecordCheck& r) {
     return r.index % options.frame_stride != 0 || std::ranges::count(options.skip_objects, r.object) > 0 ||
            r.index < options.frame_begin || (options.frame_end >= 0 && r.index >= options.frame_end);

@@ -86,7 +86,11 @@ struct RecordCheck {
   int object = 0;
   std::string name;
   int instance = 0;
+  /// The label pose the depth is checked against: the labelled pose, moved to the depth's exposure where
+  /// the frame's depth was taken apart from its colour (validate/depth_time.h; then label_shift_ns != 0).
   Rigid3d T_camera_object_label;
+  int64_t depth_offset_ns = 0;  ///< the frame's depth exposure minus its colour exposure (0: together)
+  int64_t label_shift_ns = 0;   ///< what the label was moved by: depth_offset_ns, or 0 = as labelled
   LabelCheck check;
   std::string mode;                             ///< "frame", or the tracker phase ("acquisition", "tracking")
   std::optional<SegmentationScore> segmentation;  ///< with user masks, when either mask has pixels
@@ -109,6 +113,9 @@ struct ValidationSummary {
   /// When records_checked is 0: why nothing was checked, one sentence naming the commonest reason (the
   /// rates and medians are then not measurements). Empty otherwise.
   std::string nothing_checked_why;
+  /// Records whose depth was taken apart from their colour (Kinect v2): checked with the label moved to
+  /// the depth's exposure, or at the colour's for want of a neighbouring label (validate/depth_time.h).
+  int64_t labels_moved_to_depth_time = 0, labels_not_movable_to_depth_time = 0;
   std::map<std::string, int64_t> verdicts;  ///< accept / suspect / reject over records with a pose
   std::map<std::string, int64_t> reasons;   ///< reason codes over records with a pose
   Stat position_error_mm, rotation_axis_error_deg, rotation_angle_error_deg;  ///< over estimated records

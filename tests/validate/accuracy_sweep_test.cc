@@ -54,10 +54,15 @@ struct ObjectFigures {
 
 fs::path SourceDir() { return MOCAP_SOURCE_DIR; }
 
-std::map<std::pair<int64_t, int>, Rigid3d> LabelsByRecord(const fs::path& labels) {
+/// Each record's label pose: as checked against the depth (moved to the depth's exposure where the depth
+/// was taken apart from the colour), or as the label run wrote it.
+std::map<std::pair<int64_t, int>, Rigid3d> LabelsByRecord(const std::vector<RecordCheck>& records) {
   std::map<std::pair<int64_t, int>, Rigid3d> out;
-  for (const RecordCheck& r : ReadLabelRecords(labels).records) out[{r.index, r.instance}] = r.T_camera_object_label;
+  for (const RecordCheck& r : records) out[{r.index, r.instance}] = r.T_camera_object_label;
   return out;
+}
+std::map<std::pair<int64_t, int>, Rigid3d> LabelsAsWritten(const fs::path& labels) {
+  return LabelsByRecord(ReadLabelRecords(labels).records);
 }
 
 class AccuracySweep : public ::testing::TestWithParam<std::string> {
@@ -100,7 +105,9 @@ class AccuracySweep : public ::testing::TestWithParam<std::string> {
     double mm, deg, observable_mm, observable_deg;
   };
   Difference DifferenceOf(const RecordCheck& r, const Rigid3d& correct) const {
-    Rigid3d label = r.T_camera_object_label;
+    return DifferenceOf(r, r.T_camera_object_label, correct);
+  }
+  Difference DifferenceOf(const RecordCheck& r, Rigid3d label, const Rigid3d& correct) const {
     if (const auto& symmetry = Object(r.object).symmetry) label = NearestSymmetricPose(label, correct, *symmetry);
     const ObservedDifference observed = ObservedPart(r.check.observability, correct, label);
     return {1e3 * TranslationDistanceM(label, correct), RotationDistanceDeg(label, correct), observed.position_mm,
@@ -163,8 +170,9 @@ std::string Row(const std::string& scenario, const std::string& object, const Ob
 TEST_P(AccuracySweep, CorrectLabelsAcceptedAndWrongLabelsFlagged) {
   std::map<std::string, ObjectFigures> figures;  // by object name; "all" pools them
   const fs::path correct_labels = Label("correct", {});
-  const auto correct = LabelsByRecord(correct_labels);
   const SessionValidation correct_check = Check(correct_labels);
+  const auto correct = LabelsByRecord(correct_check.records);
+  const auto correct_as_written = LabelsAsWritten(correct_labels);
   fs::create_directories(fs::path(MOCAP_BINARY_DIR) / "accuracy_sweep");
   std::ofstream csv(fs::path(MOCAP_BINARY_DIR) / "accuracy_sweep" / (GetParam() + ".csv"));
   csv << "labels,object,index,wrong,verdict,reason,reliable,judged_mm,judged_deg,precision_mm,precision_deg,"
@@ -200,11 +208,16 @@ TEST_P(AccuracySweep, CorrectLabelsAcceptedAndWrongLabelsFlagged) {
     const SessionValidation checked = Check(wrong_labels.at(kind.name));
     if (kind.name == "camera mount 5 mm" || kind.name == "latency 50 ms")
       check_says[kind.name] = CalibrationCheckSays(checked, objects_);
+    const auto wrong_as_written = LabelsAsWritten(wrong_labels.at(kind.name));
     for (const RecordCheck& r : checked.records) {
       const auto it = correct.find({r.index, r.instance});
       if (IsBadInput(r.check.reason_code) || it == correct.end()) continue;
       const Difference d = DifferenceOf(r, it->second);
-      if (d.mm < kind.min_error_mm && d.deg < kind.min_error_deg) continue;  // not wrong (latency at rest)
+      // Whether a label is wrong is a property of the label as written: one moved to the depth's exposure
+      // blends in its neighbour, whose error the sweep draws apart (a real mount error is the same in both).
+      const Difference written = DifferenceOf(r, wrong_as_written.at({r.index, r.instance}),
+                                              correct_as_written.at({r.index, r.instance}));
+      if (written.mm < kind.min_error_mm && written.deg < kind.min_error_deg) continue;  // not wrong (latency at rest)
       WriteRecordLine(csv, kind.name, r, !(d.observable_mm < 0.5 * kind.min_error_mm && d.observable_deg < 0.5 * kind.min_error_deg));
       for (const std::string& key : {r.name, std::string("all")}) {
         if (d.observable_mm < 0.5 * kind.min_error_mm && d.observable_deg < 0.5 * kind.min_error_deg) {
