@@ -8,6 +8,7 @@
 
 #include "core/check.h"
 #include "validate/icp_acceleration.h"
+#include "validate/search_memory.h"
 
 namespace mocap {
 namespace {
@@ -62,54 +63,18 @@ Rigid3d SolveFromMoments(const Moments& m) {
   return Rigid3d(R, mean_t - R * mean_s);
 }
 
-/// Per source point, the last nearest-neighbour search: its query, its answer (the hint of the next
-/// search; PointGrid::kNoHint for none within the gate) and the radius about the query within which
-/// that answer was the only scene point (PointGrid::NearestFrom's clear_m; negative before any search).
-struct LastSearch {
-  Eigen::Vector3d query = Eigen::Vector3d::Zero();
-  size_t match = PointGrid::kNoHint;
-  double clear_m = -1.0;
-};
-
-/// How far beyond its nearest point each search proves that point unique. A wider proof lasts more
-/// iterations but costs every search more cells: on the benchmark's real scene (3 mm voxels) 0.5-1 mm
-/// took the fewest instructions (9 % fewer than searching every time in the acquisition, 32 % fewer
-/// in a tracking step); 2-3 mm gained less.
-constexpr double kProofMargin_m = 0.001;
-
-/// The nearest scene point to `query` within `gate_m` (false when none), reusing the last search while
-/// its proof covers the move: a query that moved by `moved` keeps its old match while that match's
-/// distance stays below clear - moved (every other point is at least that far), and keeps "none" while
-/// gate + moved stays within the clear radius. Exact: the same answers as a fresh search, up to ties.
-bool NearestReusing(const PointGrid& target, const Eigen::Vector3d& query, double gate_m, LastSearch* last,
-                    double* d2) {
-  constexpr double kRounding_m = 1e-6;  // the grid computes in float
-  const double moved_m = (query - last->query).norm();
-  const double clear_m = last->clear_m - moved_m - kRounding_m;
-  if (last->match != PointGrid::kNoHint && clear_m > 0) {
-    *d2 = (target.point(last->match) - query).squaredNorm();
-    if (*d2 < clear_m * clear_m) return *d2 <= gate_m * gate_m;
-  } else if (last->match == PointGrid::kNoHint && gate_m <= clear_m) {
-    return false;
-  }
-  last->query = query;
-  const bool found = target.NearestFrom(query, gate_m, kProofMargin_m, &last->match, d2, &last->clear_m);
-  if (!found) last->match = PointGrid::kNoHint;
-  return found && *d2 <= gate_m * gate_m;
-}
-
 /// One correspondence pass, from each point's last search.
 Moments Correspond(const PointCloud& source, const PointGrid& target, const Rigid3d& T, double gate_m, int stride,
-                   std::vector<LastSearch>* searches) {
+                   std::vector<SearchMemory>* searches) {
   const Eigen::Matrix3d R = T.rotation_matrix();
   const Eigen::Vector3d t = T.translation();
   Moments m;
   double d2 = 0.0;
   for (size_t i = 0; i < source.size(); i += static_cast<size_t>(stride)) {
     const Eigen::Vector3d& s = source[i];
-    LastSearch& last = (*searches)[i];
+    SearchMemory& last = (*searches)[i];
     ++m.visited;
-    if (NearestReusing(target, R * s + t, gate_m, &last, &d2)) m.Add(s, target.point(last.match), d2);
+    if (NearestRemembered(target, R * s + t, gate_m, &last, &d2)) m.Add(s, target.point(last.match), d2);
   }
   return m;
 }
@@ -180,7 +145,7 @@ IcpResult AlignPointToPoint(const PointCloud& source, const PointGrid& target, c
   if (options.accelerate)
     accelerator.emplace(source, options.acceleration_angle_deg, options.acceleration_max_factor);
   std::optional<Trial> trial;
-  std::vector<LastSearch> searches(source.size());
+  std::vector<SearchMemory> searches(source.size());
   result.reason = IcpStopReason::kMaxIterations;
   while (result.iterations < options.max_iterations) {
     const Moments m = Correspond(source, target, result.T_target_source, gate_m, stride, &searches);

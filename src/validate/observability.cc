@@ -8,6 +8,7 @@
 
 #include "core/check.h"
 #include "validate/crop_cache.h"
+#include "validate/search_memory.h"
 
 namespace mocap {
 namespace {
@@ -100,15 +101,25 @@ std::vector<double> RobustWeights(const std::vector<double>& r, double sigmas, d
   return w;
 }
 
+/// `searches`: one memory per crop point, kept over a refinement's iterations (validate/search_memory.h),
+/// or null for a one-off analysis.
 NormalEquations Build(const PointCloud& points, const PointCloud& normals, const Rigid3d& T_camera_object,
-                      const PointGrid& scene, double gate_m, int max_points, double robust_sigmas) {
+                      const PointGrid& scene, double gate_m, int max_points, double robust_sigmas,
+                      std::vector<SearchMemory>* searches = nullptr) {
   NormalEquations e;
   std::vector<std::pair<size_t, Eigen::Vector3d>> matches;  // crop index, scene point (camera frame)
   for (size_t i = 0; i < points.size(); i += Stride(points.size(), max_points)) {
-    size_t index = 0;
+    const Eigen::Vector3d query = T_camera_object * points[i];
     double distance_sq = 0;
-    if (scene.Nearest(T_camera_object * points[i], gate_m, &index, &distance_sq))
-      matches.emplace_back(i, scene.point(index));
+    if (searches) {
+      SearchMemory& last = (*searches)[i];
+      // From scratch when it must search: between equidistant points it then answers as Nearest does.
+      if (NearestRemembered(scene, query, gate_m, &last, &distance_sq, false))
+        matches.emplace_back(i, scene.point(last.match));
+      continue;
+    }
+    size_t index = 0;
+    if (scene.Nearest(query, gate_m, &index, &distance_sq)) matches.emplace_back(i, scene.point(index));
   }
   e.supported = static_cast<int>(matches.size());
   if (matches.empty()) return e;
@@ -253,10 +264,12 @@ PlaneRefinement RefinePointToPlane(const ModelCrop& crop, const Rigid3d& T_camer
   PlaneRefinement out;
   out.T_camera_object = T_camera_object_init;
   Vector6d weak_moved = Vector6d::Zero();  // along the probed directions, [L w; v] metres
+  // Late iterations move the pose by micrometres: most points keep their match without a search.
+  std::vector<SearchMemory> searches(crop.points_model.size());
   for (int iteration = 0; iteration < options.refine_iterations; ++iteration) {
     const double gate_m = iteration == 0 ? std::max(first_gate_m, options.support_distance_m) : options.support_distance_m;
     const NormalEquations e = Build(crop.points_model, normals, out.T_camera_object, scene_camera, gate_m, options.max_points,
-                                    options.robust_sigmas);
+                                    options.robust_sigmas, &searches);
     out.observability = Analyse(e, options);
     out.rmse_m = e.rmse_m;
     if (!out.observability.analysed) return out;
