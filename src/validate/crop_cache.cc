@@ -67,24 +67,24 @@ CachedCropSource::CachedCropSource(const CropSource& base, const CropCacheOption
 
 std::shared_ptr<const CachedCropSource::Cell> CachedCropSource::Compute(int64_t key, const Eigen::Vector3d& direction,
                                                                        double distance_m) const {
-  const Eigen::Vector3d eye_model = center_model_ + distance_m * direction;
-  const ModelCrop crop = base_.Crop(LookAt(eye_model, center_model_, Eigen::Vector3d::UnitZ()));
   auto cell = std::make_shared<Cell>();
-  cell->points_model = crop.points_model;
-  cell->normals_model = EstimateNormals(crop.points_model, options_.normal_radius_m, eye_model);
+  cell->eye_model = center_model_ + distance_m * direction;
+  cell->points_model = base_.Crop(LookAt(cell->eye_model, center_model_, Eigen::Vector3d::UnitZ())).points_model;
   cell->view_direction_model = direction;
   std::lock_guard lock(mutex_);
   ++stats_.computed;
   return cells_.try_emplace(key, std::move(cell)).first->second;
 }
 
-ModelCrop CachedCropSource::Crop(const Rigid3d& T_camera_model) const {
-  ModelCrop crop;
-  crop.T_camera_model = T_camera_model;
+std::shared_ptr<const CachedCropSource::Cell> CachedCropSource::Find(const Rigid3d& T_camera_model, ModelCrop* crop) const {
+  crop->T_camera_model = T_camera_model;
   const Eigen::Vector3d eye_model = T_camera_model.inverse().translation();
   const Eigen::Vector3d offset = eye_model - center_model_;
   const double distance_m = offset.norm();
-  if (!(distance_m > 1e-6)) return base_.Crop(T_camera_model);  // the camera inside the model: no view
+  if (!(distance_m > 1e-6)) {  // the camera inside the model: no view
+    *crop = base_.Crop(T_camera_model);
+    return nullptr;
+  }
   Eigen::Vector3d direction;
   const int64_t cell = DirectionCell(offset / distance_m, cells_per_edge_, &direction);
   const double ratio_log = std::log(options_.distance_ratio);
@@ -98,9 +98,25 @@ ModelCrop CachedCropSource::Crop(const Rigid3d& T_camera_model) const {
     if (it != cells_.end()) found = it->second;
   }
   if (!found) found = Compute(key, direction, std::exp(band * ratio_log));
-  crop.points_model = found->points_model;
-  crop.normals_model = found->normals_model;
-  crop.view_direction_model = found->view_direction_model;
+  crop->points_model = found->points_model;
+  crop->view_direction_model = found->view_direction_model;
+  return found;
+}
+
+ModelCrop CachedCropSource::Crop(const Rigid3d& T_camera_model) const {
+  ModelCrop crop;
+  const std::shared_ptr<const Cell> cell = Find(T_camera_model, &crop);
+  if (!cell) return crop;
+  std::call_once(cell->normals_once, [&] {
+    cell->normals_model = EstimateNormals(cell->points_model, options_.normal_radius_m, cell->eye_model);
+  });
+  crop.normals_model = cell->normals_model;
+  return crop;
+}
+
+ModelCrop CachedCropSource::CropPoints(const Rigid3d& T_camera_model) const {
+  ModelCrop crop;
+  Find(T_camera_model, &crop);
   return crop;
 }
 

@@ -4,7 +4,9 @@
 // perspective, a little on its distance); the camera's roll about that ray only turns the z-buffer's
 // pixel grid. So crops are cached per cell of viewing direction (a cube map of about
 // `direction_step_deg`) and per distance band, and every request falling in a cell gets that cell's
-// crop, with its surface normals (for the observability analysis, validate/observability.h).
+// crop, with its surface normals (for the observability analysis, validate/observability.h). A cell's
+// normals are estimated on the first request that wants them (Crop, not CropPoints): most cells serve
+// only the acquisition's hypotheses, which use none.
 #include <cstdint>
 #include <memory>
 #include <mutex>
@@ -39,15 +41,21 @@ class CachedCropSource : public CropSource {
   CachedCropSource(const CropSource& base, const CropCacheOptions& options);
   /// The crop of the cell the camera centre falls in, with normals; T_camera_model is the request's.
   ModelCrop Crop(const Rigid3d& T_camera_model) const override;
+  /// The cell's crop without normals.
+  ModelCrop CropPoints(const Rigid3d& T_camera_model) const override;
   const PointCloud& surface_model() const override { return base_.surface_model(); }
   CropCacheStats stats() const;
 
  private:
   struct Cell {
-    PointCloud points_model, normals_model;
-    Eigen::Vector3d view_direction_model;
+    PointCloud points_model;
+    Eigen::Vector3d eye_model, view_direction_model;
+    mutable std::once_flag normals_once;  ///< normals_model is filled once, by the first Crop
+    mutable PointCloud normals_model;
   };
   std::shared_ptr<const Cell> Compute(int64_t key, const Eigen::Vector3d& direction, double distance_m) const;
+  /// The cell of a request (computed when new); the request's crop with the cell's points, no normals.
+  std::shared_ptr<const Cell> Find(const Rigid3d& T_camera_model, ModelCrop* crop) const;
 
   const CropSource& base_;
   CropCacheOptions options_;

@@ -15,7 +15,14 @@ VisibleInFrameCropSource::VisibleInFrameCropSource(const CropSource& base, const
 }
 
 ModelCrop VisibleInFrameCropSource::Crop(const Rigid3d& T_camera_model) const {
-  ModelCrop crop = base_.Crop(T_camera_model);
+  return Visible(T_camera_model, base_.Crop(T_camera_model));
+}
+
+ModelCrop VisibleInFrameCropSource::CropPoints(const Rigid3d& T_camera_model) const {
+  return Visible(T_camera_model, base_.CropPoints(T_camera_model));
+}
+
+ModelCrop VisibleInFrameCropSource::Visible(const Rigid3d& T_camera_model, ModelCrop crop) const {
   PointCloud visible, normals;
   visible.reserve(crop.points_model.size());
   const bool has_normals = crop.normals_model.size() == crop.points_model.size();

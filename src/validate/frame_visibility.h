@@ -21,9 +21,13 @@ class VisibleInFrameCropSource : public CropSource {
   VisibleInFrameCropSource(const CropSource& base, const PinholeCamera& camera, const DepthImage& depth_m,
                            const LabelImage& mask, uint16_t label_id, double occluder_margin_m);
   ModelCrop Crop(const Rigid3d& T_camera_model) const override;
+  ModelCrop CropPoints(const Rigid3d& T_camera_model) const override;
   const PointCloud& surface_model() const override { return base_.surface_model(); }
 
  private:
+  /// `crop` (the base source's at T_camera_model) less the points this frame cannot see.
+  ModelCrop Visible(const Rigid3d& T_camera_model, ModelCrop crop) const;
+
   const CropSource& base_;
   const PinholeCamera& camera_;
   const DepthImage& depth_m_;

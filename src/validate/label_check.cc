@@ -46,7 +46,7 @@ void PolishProbedDirections(const PointGrid& grid, const CropSource& model, cons
 /// Label score, errors, success and verdict once an estimate (or none) is known.
 void Finish(const PointGrid& grid, const Rigid3d& label, const CropSource& model, const ValidateOptions& options,
             LabelCheck* check) {
-  check->label_score = ScoreAlignment(model.Crop(label).points_model, label, grid, options.alignment).score;
+  check->label_score = ScoreAlignment(model.CropPoints(label).points_model, label, grid, options.alignment).score;
   if (check->estimated) {
     // The point-to-plane polish moves the estimate only where the depth constrains it, and says where.
     const ModelCrop crop = model.Crop(check->T_camera_object_segicp);
@@ -238,10 +238,11 @@ LabelCheck CheckLabel(const PointCloud& scene_camera, const Rigid3d& T_camera_ob
                     Str("too few scene points (", scene.size(), " < ", options.min_scene_points, ")"),
                     static_cast<int>(scene.size()));
   const PointGrid grid(scene);
+  const PointsOnlyCropSource hypotheses(model);  // the acquisition uses no normals
   const AcquisitionResult r =
       options.check_seed == AcquisitionSeed::kLabel
-          ? AcquireAround(scene, grid, model, T_camera_object_label, options.acquisition, options.alignment)
-          : Acquire(scene, grid, model, view_crops, options.acquisition, options.alignment);
+          ? AcquireAround(scene, grid, hypotheses, T_camera_object_label, options.acquisition, options.alignment)
+          : Acquire(scene, grid, hypotheses, view_crops, options.acquisition, options.alignment);
   LabelCheck check;
   check.scene_points = static_cast<int>(scene.size());
   if (r.best >= 0) {

@@ -33,8 +33,24 @@ class CropSource {
   /// The model points visible from a camera at its origin looking along +z when the model sits at
   /// `T_camera_model`. Thread-safe (called from parallel hypotheses).
   virtual ModelCrop Crop(const Rigid3d& T_camera_model) const = 0;
+  /// The same crop, whose normals may be left out: for callers that use none (the acquisition's
+  /// hypotheses, the alignment score, the observability probe), so that a source that computes normals
+  /// (CachedCropSource) does so only for the crops that need them.
+  virtual ModelCrop CropPoints(const Rigid3d& T_camera_model) const { return Crop(T_camera_model); }
   /// All surface points of the model (model frame), for bounding boxes.
   virtual const PointCloud& surface_model() const = 0;
+};
+
+/// A source's crops without normals (CropSource::CropPoints), for code that asks only Crop (the
+/// acquisition). `base` must outlive it.
+class PointsOnlyCropSource : public CropSource {
+ public:
+  explicit PointsOnlyCropSource(const CropSource& base) : base_(base) {}
+  ModelCrop Crop(const Rigid3d& T_camera_model) const override { return base_.CropPoints(T_camera_model); }
+  const PointCloud& surface_model() const override { return base_.surface_model(); }
+
+ private:
+  const CropSource& base_;
 };
 
 /// Triangle mesh in the model frame, metres.

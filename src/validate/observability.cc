@@ -198,7 +198,7 @@ void Probe(const CropSource& model, const ModelCrop& crop, const Rigid3d& T_came
     double loss = 0.0;
     for (const double sign : {1.0, -1.0}) {
       const Rigid3d moved = Moved(T_camera_object, sign * options.probe_m * o->directions.col(k), o->center_object, o->radius_m);
-      loss = std::max(loss, base - SupportedShare(model.Crop(moved).points_model, moved, scene, options.probe_support_m,
+      loss = std::max(loss, base - SupportedShare(model.CropPoints(moved).points_model, moved, scene, options.probe_support_m,
                                                   options.max_points));
     }
     o->probe_loss[k] = loss;

@@ -95,12 +95,13 @@ void ObjectTracker::RunAcquisition(const PointCloud& scene, const Rigid3d& T_wor
   // A given prior seeds the hypotheses, else the filter's prediction while it holds a pose, else the
   // view sphere (whose crops are made on first use).
   AcquisitionResult r;
+  const PointsOnlyCropSource hypotheses(model);  // the acquisition uses no normals
   if (T_camera_object_prior || filter_.initialized()) {
     const Rigid3d prior = T_camera_object_prior ? *T_camera_object_prior : T_world_camera.inverse() * filter_.pose();
-    r = AcquireAround(scene, grid, model, prior, options_.acquisition, options_.alignment);
+    r = AcquireAround(scene, grid, hypotheses, prior, options_.acquisition, options_.alignment);
   } else {
-    if (view_crops_.empty()) view_crops_ = MakeViewSphereCrops(model_, options_.acquisition);
-    r = Acquire(scene, grid, model, view_crops_, options_.acquisition, options_.alignment);
+    if (view_crops_.empty()) view_crops_ = MakeViewSphereCrops(PointsOnlyCropSource(model_), options_.acquisition);
+    r = Acquire(scene, grid, hypotheses, view_crops_, options_.acquisition, options_.alignment);
   }
   if (r.best < 0) {
     step->note += r.reason;
