@@ -181,11 +181,8 @@ double SupportedShare(const PointCloud& crop_model, const Rigid3d& T_camera_obje
                       int max_points) {
   if (crop_model.empty()) return 0.0;
   int supported = 0, tried = 0;
-  for (size_t i = 0; i < crop_model.size(); i += Stride(crop_model.size(), max_points), ++tried) {
-    size_t index = 0;
-    double distance_sq = 0;
-    supported += scene.Nearest(T_camera_object * crop_model[i], gate_m, &index, &distance_sq);
-  }
+  for (size_t i = 0; i < crop_model.size(); i += Stride(crop_model.size(), max_points), ++tried)
+    supported += scene.AnyWithin(T_camera_object * crop_model[i], gate_m);
   return static_cast<double>(supported) / tried;
 }
 

@@ -243,6 +243,28 @@ bool PointGrid::NearestFrom(const Eigen::Vector3d& query, double max_distance_m,
   return true;
 }
 
+bool PointGrid::AnyWithin(const Eigen::Vector3d& query, double radius_m) const {
+  if (points_.empty()) return false;
+  const Eigen::Vector3f q = query.cast<float>();
+  // The same float arithmetic as Nearest, so that both agree on points at the radius.
+  const float radius_sq = static_cast<float>(radius_m * radius_m);
+  const Eigen::Vector3f g = (q - origin_) * inv_cell_;
+  const float reach = static_cast<float>(radius_m) * inv_cell_ + kSlackCells;  // slack: the points' cells round too
+  if (!(g.cwiseAbs().maxCoeff() + reach < kMaxCellCoordinate)) {
+    size_t index = 0;
+    double distance_sq = 0;
+    return Nearest(query, radius_m, &index, &distance_sq);
+  }
+  const Eigen::Vector3i lo = Eigen::Vector3i::Zero().cwiseMax(FloorToInt(g.array() - reach));
+  const Eigen::Vector3i hi = Eigen::Vector3i(dims_.array() - 1).cwiseMin(FloorToInt(g.array() + reach));
+  if (!(lo.array() <= hi.array()).all()) return false;
+  for (int z = lo.z(); z <= hi.z(); ++z)
+    for (int y = lo.y(); y <= hi.y(); ++y)
+      for (uint32_t i = cell_start_[CellIndex(lo.x(), y, z)], end = cell_start_[CellIndex(hi.x(), y, z) + 1]; i < end; ++i)
+        if ((points_[i] - q).squaredNorm() < radius_sq) return true;
+  return false;
+}
+
 void PointGrid::Radius(const Eigen::Vector3d& query, double radius_m, std::vector<std::pair<size_t, float>>* out) const {
   out->clear();
   if (points_.empty()) return;

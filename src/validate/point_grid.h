@@ -64,6 +64,10 @@ class PointGrid {
   bool NearestFrom(const Eigen::Vector3d& query, double max_distance_m, double margin_m, size_t* index,
                    double* distance_sq_m2, double* clear_m) const;
 
+  /// Whether some stored point lies strictly within `radius_m` of `query` (as Nearest finds one): stops
+  /// at the first, for callers that count supported points (the observability probe).
+  bool AnyWithin(const Eigen::Vector3d& query, double radius_m) const;
+
   /// All stored points strictly within `radius_m`, sorted by increasing distance, as (index, distance^2).
   void Radius(const Eigen::Vector3d& query, double radius_m, std::vector<std::pair<size_t, float>>* out) const;
 

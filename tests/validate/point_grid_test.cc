@@ -95,6 +95,26 @@ TEST(PointGrid, RadiusMatchesBruteForceSorted) {
   }
 }
 
+TEST(PointGrid, AnyWithinAgreesWithNearest) {
+  std::mt19937 rng(9);
+  const PointCloud cloud = SceneLike(rng);
+  const PointGrid grid(cloud);
+  PointCloud queries = testing::AddNoise(PointCloud(cloud.begin(), cloud.begin() + 400), rng, 0.006);
+  queries.push_back({5.0, 5.0, 5.0});    // beyond the grid
+  queries.push_back({1e9, 0.0, 0.0});    // beyond the grid's cell coordinates
+  int found = 0;
+  for (const auto& q : queries)
+    for (const double radius_m : {0.001, 0.004, 0.02}) {
+      size_t index = 0;
+      double d2 = 0;
+      const bool nearest = grid.Nearest(q, radius_m, &index, &d2);
+      ASSERT_EQ(grid.AnyWithin(q, radius_m), nearest) << q.transpose() << " within " << radius_m;
+      found += nearest;
+    }
+  EXPECT_GT(found, 300);  // both answers occur
+  EXPECT_LT(found, 3 * static_cast<int>(queries.size()));
+}
+
 TEST(PointGrid, OutliersEnlargeTheCellsInsteadOfTheGrid) {
   PointCloud cloud = testing::BoxSurface({0.1, 0.1, 0.1}, 0.01);
   cloud.push_back({50.0, 50.0, 50.0});  // 50 m away: 6 mm cells would need 10^12 of them
