@@ -147,6 +147,9 @@ ValidateOptions OptionsFor(const Mesh& mesh, ValidateOptions o) {
 
 struct ObjectModel {
   ValidateOptions options;  ///< the run's, at this object's resolution (OptionsFor)
+  /// The same for a scene cloud the session check has already thinned to options.scene_voxel_m: the
+  /// tracker and the check do not thin it again (that would leave it as it is, at a cost).
+  ValidateOptions thinned_options;
   std::unique_ptr<CropSource> source;  ///< computes crops (z-buffer or renderer)
   std::unique_ptr<CachedCropSource> crops;  ///< each view's crop once, from `source`
   std::vector<ModelCrop> view_crops;  ///< for the view-sphere seed
@@ -163,6 +166,8 @@ std::map<int, ObjectModel> LoadModels(const std::vector<ValidationObject>& objec
     const Mesh mesh = LoadMesh(it->mesh_path.string(), it->unit_scale_to_m);
     ObjectModel model;
     model.options = OptionsFor(mesh, options.validate);
+    model.thinned_options = model.options;
+    model.thinned_options.scene_voxel_m = 0;
     if (options.crops == CropBackend::kRenderer)
       model.source = std::make_unique<RenderedCropSource>(mesh, model.options.crop, options.context);
     else
@@ -250,8 +255,7 @@ void CheckTracked(const FrameInputs& in, const SessionReader& session, const Obj
   const bool seed_from_label = model.options.check_seed == AcquisitionSeed::kLabel;
   // Cross-checks at fixed frame indices: a shard starting at such a frame checks as the whole run does.
   const int every = model.options.tracking.reacquire_every;
-  // Thinned here once: the tracker and the check thin it again, which leaves a thinned cloud as it is
-  // (each point alone in its voxel) at a fraction of the cost of thinning the raw cloud twice.
+  // Thinned here once for the tracker and the check (model.thinned_options).
   const PointCloud scene =
       VoxelDownsample(DepthToPointsMasked(in.depth_m, camera, *mask.mask, mask.value), model.options.scene_voxel_m);
   // Without a tracked camera body the camera is taken as static (motion all in the object).
@@ -267,7 +271,7 @@ void CheckTracked(const FrameInputs& in, const SessionReader& session, const Obj
   const TrackStep step = tracker.Step(scene, camera_pose.ok() ? *camera_pose.pose : Rigid3d(), stamp_ns,
                                       seed_from_label ? &r.T_camera_object_label : nullptr, &frame_model,
                                       every > 0 && r.index % every == 0);
-  r.check = CheckLabelWithTrack(scene, r.T_camera_object_label, frame_model, step, model.options);
+  r.check = CheckLabelWithTrack(scene, r.T_camera_object_label, frame_model, step, model.thinned_options);
   r.mode = std::string(ToString(step.mode));
   // A tracking step is the fast path to a clear agreement; a disagreement or a close call is evidence
   // only from a full acquisition (a track can settle a few millimetres off while a carried object
@@ -296,7 +300,7 @@ void CheckTracks(const SessionReader& session, const LabelRunView& labels, const
     if (n == 0 || r.index != records[group[n - 1]].index)
       in.emplace(LoadFrame(session, labels, r.camera, r.index, options));
     const ObjectModel& model = models.at(r.object);
-    Track& track = tracks.try_emplace(r.instance, Track{ObjectTracker(*model.crops, model.options)}).first->second;
+    Track& track = tracks.try_emplace(r.instance, Track{ObjectTracker(*model.crops, model.thinned_options)}).first->second;
     CheckTracked(*in, session, model, options, track.tracker, track.last_stamp_ns, r);
     Score(*in, options, r);
   }
