@@ -4,6 +4,7 @@
 #include <chrono>
 #include <exception>
 #include <mutex>
+#include <optional>
 #include <thread>
 #include <time.h>
 
@@ -65,6 +66,7 @@ struct CameraJob {
 struct Worker {
   Renderer& renderer;
   const std::vector<MeshHandle>& handles;
+  const std::vector<ColourHistogram>& mesh_colours;  ///< per object; empty unless the colour test on holes is on
   RenderOutput render;
   LabelStageSeconds wall, cpu;
 };
@@ -108,6 +110,18 @@ Image LoadOrFlag(Load load, const char* flag, const LabelOptions& options, std::
   }
 }
 
+/// What the colour test on holes reads of a frame: its colour image and, per instance rendered, its
+/// object's mesh colours; none when the colour image could not be read.
+std::optional<HoleColours> HoleColoursOf(const cv::Mat& color, const std::vector<RenderItem>& items,
+                                         const std::vector<size_t>& object_of_item,
+                                         const std::vector<ColourHistogram>& mesh_colours) {
+  if (color.empty()) return std::nullopt;
+  MOCAP_CHECK(color.type() == CV_8UC3, "colour images are decoded as 8-bit BGR");
+  HoleColours out{{color.cols, color.rows, color.data, color.step[0]}, {}};
+  for (size_t k = 0; k < items.size(); ++k) out.mesh_colours[items[k].instance_id] = &mesh_colours[object_of_item[k]];
+  return out;
+}
+
 /// Labels one frame with a worker's renderer, adding its time per stage to worker.seconds.
 void LabelFrame(const SessionReader& session, const std::vector<LabelObject>& objects, Worker& worker, CameraJob& job,
                 int64_t index, const LabelOptions& options, LabelSink& sink) {
@@ -117,14 +131,14 @@ void LabelFrame(const SessionReader& session, const std::vector<LabelObject>& ob
   const PoseChain& chain = *job.chain;
   std::vector<InstanceResult> results(chain.instances().size());
   std::vector<RenderItem> items;
-  std::vector<size_t> result_of_item;
+  std::vector<size_t> result_of_item, object_of_item;
   for (size_t i = 0; i < results.size(); ++i) {
     results[i].instance = &chain.instances()[i];
     results[i].pose = chain.Lookup(i, entry.record.stamp_ns);
     if (!results[i].pose.T_camera_mesh) continue;
     const auto object_index = static_cast<size_t>(results[i].instance->object - objects.data());
     items.push_back({worker.handles[object_index], *results[i].pose.T_camera_mesh, results[i].instance->instance_id});
-    result_of_item.push_back(i);
+    result_of_item.push_back(i), object_of_item.push_back(object_index);
   }
   clock.Lap(worker, &LabelStageSeconds::labels);  // the pose chain's lookups
   worker.renderer.Render(chain.camera(), items, worker.render);
@@ -137,12 +151,17 @@ void LabelFrame(const SessionReader& session, const std::vector<LabelObject>& ob
                           : DepthImage();
   const bool use_depth = !depth.data.empty();
   const bool overlay = options.output.write_overlay && entry.color_present;
-  const cv::Mat color = overlay ? LoadOrFlag<cv::Mat>([&] { return session.LoadColor(job.camera, index); },
-                                                      "unreadable_color", options, results)
-                                : cv::Mat();
+  const bool colour_test = options.visibility.hole_colour && options.visibility.rule == VisibilityRule::kCombined &&
+                           use_depth && entry.color_present;
+  const cv::Mat color = overlay || colour_test
+                            ? LoadOrFlag<cv::Mat>([&] { return session.LoadColor(job.camera, index); },
+                                                  "unreadable_color", options, results)
+                            : cv::Mat();
   clock.Lap(worker, &LabelStageSeconds::read_depth);
-  const std::vector<ObjectLabels> labels =
-      ComputeObjectLabels(worker.render, chain.camera(), use_depth ? &depth : nullptr, options.visibility);
+  const std::optional<HoleColours> colours =
+      colour_test ? HoleColoursOf(color, items, object_of_item, worker.mesh_colours) : std::nullopt;
+  const std::vector<ObjectLabels> labels = ComputeObjectLabels(worker.render, chain.camera(), use_depth ? &depth : nullptr,
+                                                               options.visibility, colours ? &*colours : nullptr);
   std::vector<PackedMasks> packed(options.output.write_masks ? labels.size() : 0);
   std::vector<PackedMasks*> stacked;
   for (size_t k = 0; k < result_of_item.size(); ++k) {
@@ -178,6 +197,9 @@ int WorkerCount(const LabelOptions& options, size_t work_items) {
 void RunWorkers(const SessionReader& session, const std::vector<LabelObject>& objects, const std::vector<Mesh>& meshes,
                 std::vector<CameraJob>& jobs, const LabelOptions& options, LabelSink& sink, Clock::time_point start,
                 LabelSummary& summary) {
+  std::vector<ColourHistogram> mesh_colours;
+  if (options.visibility.hole_colour)
+    for (const Mesh& mesh : meshes) mesh_colours.push_back(MeshColours(mesh, options.visibility));
   std::vector<std::pair<size_t, int64_t>> work;
   for (size_t j = 0; j < jobs.size(); ++j)
     for (int64_t i = jobs[j].begin; i < jobs[j].end; ++i) work.emplace_back(j, i);
@@ -197,7 +219,7 @@ void RunWorkers(const SessionReader& session, const std::vector<LabelObject>& ob
       for (size_t i = 0; i < meshes.size(); ++i)
         handles.push_back(renderer.Upload(meshes[i], summary.culling[i].culled ? BackFaceCulling::kAlways
                                                                                 : BackFaceCulling::kNever));
-      Worker worker{renderer, handles, {}, {}, {}};
+      Worker worker{renderer, handles, mesh_colours, {}, {}, {}};
       const Clock::time_point begin = Clock::now();
       const double begin_cpu = ProcessCpuSeconds();
       for (size_t w = next++; w < work.size() && !failed; w = next++) {

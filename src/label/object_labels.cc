@@ -39,6 +39,7 @@ struct MeasuredRule {
   const VisibilityOptions& options;
   const HoleJudge* holes;  ///< null under kBop19
   double max_ray;
+  const HoleColours* colours;  ///< the colour test on holes: null when off or without a colour image
 
   bool Visible(const ObjectLayer& layer, int u, int v, float z, float z_measured, bool nearest_in_model) const {
     if (options.rule == VisibilityRule::kBop19) return VisibleInMeasured(camera, u, v, z, z_measured, max_ray, options);
@@ -92,7 +93,9 @@ ObjectLabels LabelOne(const ObjectLayer& layer, const RenderOutput& render, cons
   m.amodal.assign(n, 0);
   m.visible_model.assign(n, 0);
   if (measured) m.visible_measured.assign(n, 0);
-  const MaskCounts c = FillMasks(layer, render, measured, rule, m);
+  MaskCounts c = FillMasks(layer, render, measured, rule, m);
+  if (measured && rule.colours)
+    c.visible_assumed -= HideForeignHoles(layer.instance_id, m.rect, *measured, *rule.colours, rule.options, m.visible_measured);
   s.bbox_obj = layer.bbox_obj;
   s.px_count_all = layer.px_count_all;
   s.truncated_by_canvas = layer.truncated_by_canvas;
@@ -137,7 +140,8 @@ Image<uint8_t> ToFullImage(const std::vector<uint8_t>& mask, const PixelRect& re
 }
 
 std::vector<ObjectLabels> ComputeObjectLabels(const RenderOutput& render, const PinholeCamera& camera,
-                                              const DepthImage* measured_depth_m, const VisibilityOptions& options) {
+                                              const DepthImage* measured_depth_m, const VisibilityOptions& options,
+                                              const HoleColours* colours) {
   options.check();
   MOCAP_CHECK(render.instance_ids.width == camera.width && render.instance_ids.height == camera.height,
               "render size differs from the camera's");
@@ -145,12 +149,16 @@ std::vector<ObjectLabels> ComputeObjectLabels(const RenderOutput& render, const 
     throw InputError("measured depth", Str("size ", measured_depth_m->width, "x", measured_depth_m->height,
                                            " differs from the camera's ", camera.width, "x", camera.height,
                                            " (register depth to the colour camera first)"));
+  if (colours && (colours->image.width != camera.width || colours->image.height != camera.height))
+    throw InputError("colour image", Str("size ", colours->image.width, "x", colours->image.height, " differs from the camera's ",
+                                         camera.width, "x", camera.height));
   std::vector<ObjectLabels> labels;
   labels.reserve(render.layers.size());
   std::optional<HoleJudge> holes;
   if (measured_depth_m && options.rule == VisibilityRule::kCombined)
     holes.emplace(render, camera, *measured_depth_m, options);
-  const MeasuredRule rule{camera, options, holes ? &*holes : nullptr, MaxRayLength(camera)};
+  const bool colour_test = holes && options.hole_colour && colours;
+  const MeasuredRule rule{camera, options, holes ? &*holes : nullptr, MaxRayLength(camera), colour_test ? colours : nullptr};
   for (const ObjectLayer& layer : render.layers) labels.push_back(LabelOne(layer, render, measured_depth_m, rule));
   return labels;
 }

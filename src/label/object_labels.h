@@ -17,6 +17,7 @@
 #include "core/camera.h"
 #include "core/image.h"
 #include "core/rigid3.h"
+#include "label/hole_colour.h"
 #include "label/visibility.h"
 #include "render/renderer.h"
 
@@ -67,9 +68,12 @@ struct ObjectLabels {
 
 /// Computes masks and statistics for every rendered object. `measured_depth_m` may be null (no depth);
 /// otherwise it must have the camera's size and be registered to it (depth in the colour camera).
-/// Throws InputError when the measured depth's size differs from the camera's.
+/// `colours` (may be null) is the frame's colour image and the objects' mesh colours, used only by the
+/// optional colour test on holes (VisibilityOptions::hole_colour, label/hole_colour.h). Throws
+/// InputError when the measured depth's or the colour image's size differs from the camera's.
 std::vector<ObjectLabels> ComputeObjectLabels(const RenderOutput& render, const PinholeCamera& camera,
-                                              const DepthImage* measured_depth_m, const VisibilityOptions& options = {});
+                                              const DepthImage* measured_depth_m, const VisibilityOptions& options = {},
+                                              const HoleColours* colours = nullptr);
 
 /// Bounding box of the set pixels of a rect-sized mask, in image pixels.
 PixelBox MaskBox(const std::vector<uint8_t>& mask, const PixelRect& rect);

@@ -25,6 +25,12 @@ void VisibilityOptions::check() const {
   if (hole_edge_px < 0 || hole_edge_px > hole_search_px)
     throw InputError("visibility options",
                      Str("hole_edge_px must be in [0, hole_search_px] (got ", hole_edge_px, ")"));
+  if (hole_colour_bins < 2 || hole_colour_bins > 256 || hole_colour_min_level < 0 || hole_colour_min_level > 255 ||
+      hole_colour_min_reference_px < 1 || !(hole_colour_max_share >= 0 && hole_colour_max_share < 1))
+    throw InputError("visibility options",
+                     Str("hole colour test: bins must be in [2, 256], min_level in [0, 255], min_reference_px >= 1 "
+                         "and max_share in [0, 1) (got ", hole_colour_bins, ", ", hole_colour_min_level, ", ",
+                         hole_colour_min_reference_px, ", ", hole_colour_max_share, ")"));
 }
 
 }  // namespace mocap

@@ -12,7 +12,9 @@
 //    depth decides as in BOP19 (it sees hands and other unmodelled occluders); a depth hole is judged
 //    from the measured depth around it (HoleJudge, depth_holes.h): a hole enclosed by surfaces nearer
 //    than the object is an occluder, a hole on the object's own surface or in a shadow cast onto it is
-//    the object, and a hole with no measured depth within reach is left to the model.
+//    the object, and a hole with no measured depth within reach is left to the model. Then, given the
+//    frame's colour image, a hole pixel left visible whose colour the object never shows is hidden
+//    (hole_colour, hole_colour.h): a hand nearer than the sensor's range, which depth cannot see.
 //
 // The tolerance grows with depth for Kinect noise (kinect.md §8):
 //
@@ -50,6 +52,18 @@ struct VisibilityOptions {
   /// fx * b * (1/z_near - 1/z) pixels of the object behind it, as the colour camera sees it; holes that
   /// wide beside an occluder are such shadows, on the object.
   double hole_shadow_baseline_m = 0.05;
+
+  // Depth holes and colour (kCombined, and only when the frame's colour image is given; label/hole_colour.h).
+  /// Hide hole pixels whose colour the object never shows, neither its pixels with depth nor its mesh
+  /// (a hand nearer than the sensor's range). Needs the frame's colour image; it did no worse than
+  /// without on any simulated scene (docs/labels.md), so it is on by default.
+  bool hole_colour = true;
+  int hole_colour_bins = 32;                 ///< chromaticity bins per axis (R and G over R + G + B)
+  /// Mean 8-bit level below which a pixel has no usable colour: the chromaticity of a dark pixel is
+  /// mostly the sensor's noise.
+  int hole_colour_min_level = 45;
+  int hole_colour_min_reference_px = 200;    ///< depth-confirmed pixels needed to know an object's colours
+  double hole_colour_max_share = 0.002;      ///< a colour this rare among them (bin and neighbours) is foreign
 
   /// Tolerance in metres at rendered depth z_m.
   double delta_m(double z_m) const { return delta_base_m + noise_sigmas * noise_coeff_per_m * z_m * z_m; }

@@ -62,6 +62,22 @@ double MaskIou(const cv::Mat& size, InLabel in_label, const cv::Mat& truth, int 
 }
 
 
+/// The label's visible masks of a frame, from the measured depth as the labeller reads it: in the colour
+/// image (a Kinect v2's registered there), with the colour image for the colour test on holes.
+std::map<uint16_t, Image<uint8_t>> LabelVisibleMasks(const SessionReader& session, VisibleMaskRenderer& masks,
+                                                     const std::string& camera, int64_t index,
+                                                     const std::vector<LabelledPose>& poses) {
+  const CameraStreamInfo* info = session.manifest().FindCamera(camera);
+  if (!info) throw InputError(session.dir().string(), Str("labels name camera '", camera, "', not in the session"));
+  const DepthImage depth = LoadDepthInColor(session, camera, index, DepthInColor::Of(*info, masks.camera()));
+  const VisibilityOptions& visibility = masks.visibility();
+  if (!visibility.hole_colour || visibility.rule != VisibilityRule::kCombined || !session.frame(camera, index).color_present)
+    return masks.Masks(poses, depth);
+  const cv::Mat color = session.LoadColor(camera, index);
+  const BgrView bgr{color.cols, color.rows, color.data, color.step[0]};
+  return masks.Masks(poses, depth, &bgr);
+}
+
 /// Scores the records of one frame into `scores`.
 void ScoreFrame(const std::vector<const LabelRecord*>& records, const TruthPoses& truth, const LabelRunLayout& labels,
                 const fs::path& truth_dir, const SessionReader* session, VisibleMaskRenderer* masks, LabelScores& scores) {
@@ -94,13 +110,7 @@ void ScoreFrame(const std::vector<const LabelRecord*>& records, const TruthPoses
   if (label_ids.size() != true_ids.size())
     throw InputError(labels.dir.string(), Str("instance image of frame ", index, " differs in size from the truth's"));
   std::map<uint16_t, Image<uint8_t>> measured;
-  if (masks && session) {
-    // As the labeller reads it: in the colour image (a Kinect v2's depth registered there).
-    const CameraStreamInfo* info = session->manifest().FindCamera(camera);
-    if (!info) throw InputError(session->dir().string(), Str("labels name camera '", camera, "', not in the session"));
-    const DepthInColor registration = DepthInColor::Of(*info, masks->camera());
-    measured = masks->Masks(poses, LoadDepthInColor(*session, camera, index, registration));
-  }
+  if (masks && session) measured = LabelVisibleMasks(*session, *masks, camera, index, poses);
   for (size_t i = 0; i < scored.size(); ++i) {
     RecordScore& s = scored[i];
     const int true_id = frame_truth->second.at(s.object).id;

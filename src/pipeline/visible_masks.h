@@ -11,6 +11,7 @@
 #include "core/camera.h"
 #include "core/image.h"
 #include "core/rigid3.h"
+#include "label/hole_colour.h"
 #include "label/label_objects.h"
 #include "label/visibility.h"
 #include "render/render_context.h"
@@ -33,8 +34,11 @@ class VisibleMaskRenderer {
                       const RenderContextOptions& context, const VisibilityOptions& visibility = {});
   ~VisibleMaskRenderer();
   /// Full-image masks (1 = visible) per instance. Precondition: measured depth has the camera's size.
-  std::map<uint16_t, Image<uint8_t>> Masks(const std::vector<LabelledPose>& poses, const DepthImage& measured_depth_m);
+  /// `color`: the frame's colour image, for the optional colour test on holes (may be null).
+  std::map<uint16_t, Image<uint8_t>> Masks(const std::vector<LabelledPose>& poses, const DepthImage& measured_depth_m,
+                                           const BgrView* color = nullptr);
   const PinholeCamera& camera() const { return camera_; }
+  const VisibilityOptions& visibility() const { return visibility_; }
 
  private:
   PinholeCamera camera_;
@@ -42,6 +46,7 @@ class VisibleMaskRenderer {
   std::unique_ptr<RenderContext> context_;
   std::unique_ptr<Renderer> renderer_;
   std::map<std::string, MeshHandle> handles_;
+  std::map<std::string, ColourHistogram> mesh_colours_;  ///< with the colour test on holes only
 };
 
 }  // namespace mocap::pipeline
