@@ -21,6 +21,7 @@
 #include "exporters/dataset/parallel.h"
 #include "label/label_png.h"
 #include "session/durable_file.h"
+#include "session/image_io.h"
 #include "session/png_write.h"
 
 namespace mocap::exporters {
@@ -55,8 +56,8 @@ std::string WriteColor(const ExportFrame& frame, const Sequence& seq, size_t k, 
   if (frame.color_path.empty()) return {};
   const std::string ext = LowerExtension(frame.color_path);
   if (ext == ".jpg" && o.jpeg_to_png) {
-    const cv::Mat bgr = cv::imread(frame.color_path.string(), cv::IMREAD_COLOR);
-    if (bgr.empty()) throw InputError(frame.color_path.string(), "not a readable JPEG image");
+    // The one colour reader (a truncated JPEG is an error naming the file, not a grey half image).
+    const cv::Mat bgr = ReadColor(frame.color_path);
     std::vector<uint8_t> png;
     cv::imencode(".png", bgr, png);
     WriteFileBytes(seq.dir / "rgb" / (seq.stems[k] + ".png"), png);

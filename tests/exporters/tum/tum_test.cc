@@ -144,6 +144,29 @@ TEST(TumWriter, InMemoryDatasetLayoutAndObjectTrajectories) {
       << ReadText(seq / "camera.txt");
 }
 
+TEST(TumWriter, JpegToPngReencodesAndATruncatedJpegIsAnErrorNamingTheFile) {
+  const fs::path dir = testing::FreshDir("tum_jpeg");
+  Dataset d = InMemoryDataset(dir, true);
+  std::vector<uint8_t> jpeg;
+  cv::imencode(".jpg", cv::Mat(4, 4, CV_8UC3, cv::Scalar(40, 80, 120)), jpeg);
+  const auto write = [](const fs::path& path, const std::vector<uint8_t>& bytes, size_t size) {
+    std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(size));
+  };
+  write(dir / "c.jpg", jpeg, jpeg.size());
+  for (ExportFrame& f : d.frames) f.color_path = dir / "c.jpg";
+  WriteTum(d, dir / "whole", TumExportOptions{.jpeg_to_png = true});
+  const cv::Mat png = cv::imread((dir / "whole/train/000003/rgb/1.000000000.png").string(), cv::IMREAD_COLOR);
+  ASSERT_FALSE(png.empty());
+  EXPECT_NEAR(png.at<cv::Vec3b>(1, 1)[2], 120, 4);
+  write(dir / "c.jpg", jpeg, jpeg.size() / 2);
+  try {
+    WriteTum(d, dir / "cut", TumExportOptions{.jpeg_to_png = true});
+    FAIL() << "a truncated JPEG was exported";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("c.jpg"), std::string::npos) << e.what();
+  }
+}
+
 TEST(TumWriter, UntrackedCameraIsAnErrorUnlessCameraFrameIsAsked) {
   const fs::path dir = testing::FreshDir("tum_untracked");
   const Dataset d = InMemoryDataset(dir, false);
