@@ -1,8 +1,9 @@
 #pragma once
 // The label's visible masks of one frame computed in process from the labelled poses, as the labeller
-// computes them (label/object_labels.h): the meshes rendered at the poses of labels.jsonl, then BOP's
-// mask_visib rule against the session's measured depth, which sees what the labeller has no model of
-// (the hand). Scoring uses these rather than the instance images, whose z-buffer knows only the objects.
+// computes them (label/object_labels.h): the meshes rendered at the poses of labels.jsonl, then the
+// visibility rule against the session's measured depth (in the colour image) and, for the colour test
+// on holes, its colour image, which see what the labeller has no model of (the hand). Scoring uses these
+// rather than the instance images, whose z-buffer knows only the objects.
 #include <cstdint>
 #include <map>
 #include <memory>
