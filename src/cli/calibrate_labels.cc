@@ -7,6 +7,7 @@
 
 #include "cli/calibrate_views.h"
 #include "core/check.h"
+#include "pipeline/calibration_records.h"
 #include "pipeline/label_run.h"
 #include "pipeline/label_stage.h"
 #include "pipeline/object_library.h"
@@ -103,21 +104,6 @@ int CalibrateObjectMountFromLabels(const LabelsCalibrationArgs& a, const ObjectM
 namespace mocap::cli {
 namespace {
 
-/// The run's records with a reliable estimate; a body of revolution (the continuous symmetry the
-/// validator compares modulo) gets its axis.
-std::vector<CheckRecord> CheckRecordsOf(const pipeline::ValidationRun& run, const pipeline::ObjectLibrary& library) {
-  std::map<int, Eigen::Vector3d> spin_axes;
-  for (const ValidationObject& o : pipeline::ValidationObjectsOf(library))
-    if (o.symmetry && o.symmetry->step_deg == 0) spin_axes[o.id] = o.symmetry->axis_object;
-  std::vector<CheckRecord> records;
-  for (const RecordCheck& r : run.records)
-    if (r.check.estimated && r.check.segicp_reliable) {
-      records.push_back({r.camera, r.name, r.instance, r.stamp_ns, r.T_camera_object_label, r.check.T_camera_object_segicp});
-      if (spin_axes.count(r.object)) records.back().spin_axis_mesh = spin_axes[r.object];
-    }
-  return records;
-}
-
 /// What the calibration would be with the findings applied: the rig (camera mounts, latency) and the
 /// object library (object mounts); `changed_*` say whether a file needs writing.
 struct Corrected {
@@ -207,7 +193,7 @@ int CheckCalibrationOfLabels(const LabelsCalibrationArgs& a, const CalibrationCh
   RefuseExisting(a.write_rig, a.force);
   RefuseExisting(a.write_objects, a.force);
   const pipeline::ValidationRun run = pipeline::ValidationRun::Read(a.validation);
-  const std::vector<CheckRecord> records = CheckRecordsOf(run, Library(a));
+  const std::vector<CheckRecord> records = pipeline::CalibrationCheckRecords(run.records, pipeline::ValidationObjectsOf(Library(a)));
   const CalibrationCheckResult result = CheckCalibration(records, options);
   const Corrected c = ApplyFindings(a, result, records.front().camera);
   if (a.json) {

@@ -14,6 +14,7 @@
 
 #include "calibrate/calibration_check.h"
 #include "cli/scenario_yaml.h"
+#include "pipeline/calibration_records.h"
 #include "pipeline/demo.h"
 #include "pipeline/record_stage.h"
 #include "session_fixture.h"
@@ -122,13 +123,7 @@ class AccuracySweep : public ::testing::TestWithParam<std::string> {
 /// What `calibrate check` says of a validation: the session-level test of the same records (one camera
 /// mount, object mount or latency error shared by many labels), "nothing" when no item looks wrong.
 std::string CalibrationCheckSays(const SessionValidation& validation, const std::vector<ValidationObject>& objects) {
-  std::vector<CheckRecord> records;
-  for (const RecordCheck& r : validation.records) {
-    if (!r.check.estimated || !r.check.segicp_reliable) continue;
-    records.push_back({r.camera, r.name, r.instance, r.stamp_ns, r.T_camera_object_label, r.check.T_camera_object_segicp});
-    for (const ValidationObject& o : objects)
-      if (o.id == r.object && o.symmetry && o.symmetry->step_deg == 0) records.back().spin_axis_mesh = o.symmetry->axis_object;
-  }
+  const std::vector<CheckRecord> records = pipeline::CalibrationCheckRecords(validation.records, objects);
   const CalibrationCheckResult result = CheckCalibration(records);
   std::string says;
   for (const CheckFinding& f : result.findings) {
