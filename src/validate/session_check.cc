@@ -284,25 +284,69 @@ void CheckTracked(const FrameInputs& in, const SessionReader& session, const Obj
   }
 }
 
-/// A group of one camera's records in frame order, each instance through its own tracker; each frame's
-/// inputs are read once for all of its records (a frame of four objects was read four times).
+/// Frames shared by the jobs that check one stretch's instances apart: each frame is read by the first job
+/// that needs it (the others wait for it) and dropped once all of its records are checked, so splitting a
+/// stretch into jobs per instance reads no frame twice (reading them once per job cost the balance it won).
+class SharedFrames {
+ public:
+  /// `share` false: every Get reads its frame afresh (jobs that run through a whole session apart
+  /// would otherwise hold every frame until the last of them passes it).
+  SharedFrames(const std::vector<RecordCheck>& records, bool share) : share_(share) {
+    if (share_)
+      for (const RecordCheck& r : records) ++entries_[{r.camera, r.index}].pending;
+  }
+  /// The inputs of record r's frame; `load` reads them.
+  template <typename Load>
+  std::shared_ptr<const FrameInputs> Get(const RecordCheck& r, Load load) {
+    if (!share_) return std::make_shared<const FrameInputs>(load());
+    Entry* entry = nullptr;
+    {
+      std::lock_guard lock(mutex_);
+      entry = &entries_.at({r.camera, r.index});
+    }
+    std::call_once(entry->once, [&] { entry->frame = std::make_shared<const FrameInputs>(load()); });
+    return entry->frame;  // not reset before this record's Done
+  }
+  /// Record r is checked: its frame is dropped after the last of its records.
+  void Done(const RecordCheck& r) {
+    if (!share_) return;
+    std::lock_guard lock(mutex_);
+    Entry& entry = entries_.at({r.camera, r.index});
+    if (--entry.pending == 0) entry.frame.reset();
+  }
+
+ private:
+  struct Entry {
+    int pending = 0;  ///< records of the frame not yet checked
+    std::once_flag once;
+    std::shared_ptr<const FrameInputs> frame;
+  };
+  const bool share_;
+  std::mutex mutex_;
+  std::map<std::pair<std::string, int64_t>, Entry> entries_;  // nodes stay put: Get keeps a pointer
+};
+
+/// A group of one camera's records in frame order, each instance through its own tracker; a frame's inputs
+/// are read once for all of its records (`frames`).
 void CheckTracks(const SessionReader& session, const LabelRunView& labels, const std::map<int, ObjectModel>& models,
-                 const SessionCheckOptions& options, std::vector<RecordCheck>& records, std::vector<size_t> group) {
+                 const SessionCheckOptions& options, SharedFrames& frames, std::vector<RecordCheck>& records,
+                 std::vector<size_t> group) {
   std::stable_sort(group.begin(), group.end(), [&](size_t a, size_t b) { return records[a].index < records[b].index; });
   struct Track {
     ObjectTracker tracker;
     int64_t last_stamp_ns = 0;
   };
   std::map<int, Track> tracks;  // by instance
-  std::optional<FrameInputs> in;
+  std::shared_ptr<const FrameInputs> in;
   for (size_t n = 0; n < group.size(); ++n) {
     RecordCheck& r = records[group[n]];
     if (n == 0 || r.index != records[group[n - 1]].index)
-      in.emplace(LoadFrame(session, labels, r.camera, r.index, options));
+      in = frames.Get(r, [&] { return LoadFrame(session, labels, r.camera, r.index, options); });
     const ObjectModel& model = models.at(r.object);
     Track& track = tracks.try_emplace(r.instance, Track{ObjectTracker(*model.crops, model.thinned_options)}).first->second;
     CheckTracked(*in, session, model, options, track.tracker, track.last_stamp_ns, r);
     Score(*in, options, r);
+    frames.Done(r);
   }
 }
 
@@ -346,14 +390,16 @@ SessionValidation CheckSession(const SessionReader& session, const std::vector<V
     if (options.track) {
       // One tracker per instance and stretch between cross-checks: a tracker started at a cross-check
       // frame checks as the continued one does (see CheckTracked), and the stretches keep every core
-      // busy where one instance's track would outlast the others. A stretch's instances share a job, so
-      // that its frames are read once; without cross-checks each instance is a job of its own.
+      // busy where one instance's track would outlast the others. Each instance's stretch is a job of its
+      // own (smaller jobs end more evenly on few cores), in stretch order, sharing
+      // the stretch's frames; without cross-checks each instance is a job over the whole session.
       const int every = options.validate.tracking.reacquire_every;
       const auto groups = GroupBy(records, [every](const RecordCheck& r) {
-        return every > 0 ? std::make_tuple(r.camera, r.index / every, 0) : std::make_tuple(r.camera, int64_t{0}, r.instance);
+        return std::make_tuple(r.camera, every > 0 ? r.index / every : int64_t{0}, r.instance);
       });
+      SharedFrames frames(records, every > 0);
       ParallelFor(static_cast<int>(groups.size()), options.threads, [&](int g) {
-        CheckTracks(session, labels, models, options, records, groups[g]);
+        CheckTracks(session, labels, models, options, frames, records, groups[g]);
         progress.Advance(static_cast<int64_t>(groups[g].size()));
       });
     } else {
