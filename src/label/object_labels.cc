@@ -94,7 +94,8 @@ ObjectLabels LabelOne(const ObjectLayer& layer, const RenderOutput& render, cons
   m.visible_model.assign(n, 0);
   if (measured) m.visible_measured.assign(n, 0);
   MaskCounts c = FillMasks(layer, render, measured, rule, m);
-  if (measured && rule.colours)
+  // Only visible pixels without depth can be foreign: an object with none skips the colour pass.
+  if (measured && rule.colours && c.visible_assumed > 0)
     c.visible_assumed -= HideForeignHoles(layer.instance_id, m.rect, *measured, *rule.colours, rule.options, m.visible_measured);
   s.bbox_obj = layer.bbox_obj;
   s.px_count_all = layer.px_count_all;
