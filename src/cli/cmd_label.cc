@@ -65,6 +65,10 @@ int RunLabel(int argc, char** argv) {
                  "visible-mask rule against the measured depth: combined (model z-buffer, measured depth, depth holes "
                  "judged from their surroundings) or bop19 (BOP's mask_visib exactly, for datasets compared with BOP's tools)")
       ->check(CLI::IsMember({"combined", "bop19"}));
+  bool no_hole_colour = false;
+  app.add_flag("--no-hole-colour", no_hole_colour,
+               "combined rule: leave out the colour test on depth holes (a hole pixel whose colour the object has "
+               "neither in its measured pixels nor on its mesh is hidden; docs/labels.md)");
   app.add_flag("--stop-on-bad-image", options.stop_on_unreadable_image,
                "stop at a depth or colour file that cannot be decoded (default: label the frame without it and "
                "flag its records unreadable_depth / unreadable_color)");
@@ -87,6 +91,7 @@ int RunLabel(int argc, char** argv) {
   options.context.platform = EglPlatformFromString(platform);
   options.renderer.back_face_culling = BackFaceCullingFromString(culling);
   options.visibility.rule = ParseVisibilityRule(visibility, "--visibility");
+  if (no_hole_colour) options.visibility.hole_colour = false;
   // Every worker owns a context and keeps a core busy; llvmpipe's own rasteriser threads (one per core by
   // default) then only add hand-over cost: 36 -> 29-34 ms CPU per frame with 2 workers (bench/RESULTS.md,
   // bench_label). Mesa reads the variable once, at the first EGL display, which is still to come here.

@@ -50,7 +50,7 @@ nlohmann::json ToJson(const LabelOptions& o) {
           {"speed_half_window_ns", o.chain.speed_half_window_ns},
           {"fast_motion_m_per_s", o.chain.fast_motion_m_per_s},
           {"fast_motion_deg_per_s", o.chain.fast_motion_deg_per_s},
-          {"visibility", {{"rule", ToString(o.visibility.rule)},
+          {"visibility", {{"rule", ToString(o.visibility.rule)}, {"hole_colour", o.visibility.hole_colour},
                           {"delta_base_m", o.visibility.delta_base_m}, {"noise_sigmas", o.visibility.noise_sigmas},
                           {"noise_coeff_per_m", o.visibility.noise_coeff_per_m}}},
           {"back_face_culling", ToString(o.renderer.back_face_culling)},
@@ -88,6 +88,8 @@ LabelOptions LabelOptionsFromJson(const nlohmann::json& json, const std::string&
   // Runs written before the rule was recorded used BOP's (the only rule then): they are stale under another.
   o.visibility.rule = vis.Has("rule") ? ParseVisibilityRule(vis.String("rule"), where + " options.visibility.rule")
                                       : VisibilityRule::kBop19;
+  // Runs written before the colour test on depth holes existed were made without it.
+  o.visibility.hole_colour = vis.Has("hole_colour") && vis.Bool("hole_colour");
   o.visibility.delta_base_m = vis.Number("delta_base_m");
   o.visibility.noise_sigmas = vis.Number("noise_sigmas");
   o.visibility.noise_coeff_per_m = vis.Number("noise_coeff_per_m");

@@ -9,6 +9,7 @@
 #include "pipeline/content_hash.h"
 #include "pipeline/hash_cache.h"
 #include "pipeline/provenance.h"
+#include "pipeline/run_provenance.h"
 
 namespace mocap::pipeline {
 namespace {
@@ -250,6 +251,34 @@ TEST_F(ProvenanceTest, OverridesCompareTheGivenFile) {
   ASSERT_EQ(unknown.changes.size(), 1u);
   EXPECT_EQ(unknown.changes[0].role, "objects");
   EXPECT_EQ(unknown.changes[0].what, "not recorded in the run");
+}
+
+}  // namespace
+}  // namespace mocap::pipeline
+
+namespace mocap::pipeline {
+namespace {
+
+// run.json's label options: the visible-mask rule and the colour test on depth holes round-trip, and a
+// run written before either was recorded reads as what made it (BOP19's rule, no colour test), so a
+// relabel under today's defaults finds it stale.
+TEST(LabelRunOptions, VisibilityRuleAndHoleColourRoundTripAndOldRunsReadAsMadeWithout) {
+  LabelOptions options;
+  options.visibility.rule = VisibilityRule::kCombined;
+  options.visibility.hole_colour = false;
+  nlohmann::json json = ToJson(options);
+  LabelOptions back = LabelOptionsFromJson(json, "run.json");
+  EXPECT_EQ(back.visibility.rule, VisibilityRule::kCombined);
+  EXPECT_FALSE(back.visibility.hole_colour);
+  options.visibility.hole_colour = true;
+  EXPECT_TRUE(LabelOptionsFromJson(ToJson(options), "run.json").visibility.hole_colour);
+  json = ToJson(options);
+  json["visibility"].erase("rule");
+  json["visibility"].erase("hole_colour");
+  back = LabelOptionsFromJson(json, "run.json");
+  EXPECT_EQ(back.visibility.rule, VisibilityRule::kBop19);
+  EXPECT_FALSE(back.visibility.hole_colour);
+  EXPECT_NE(ToJson(back), ToJson(LabelOptions{})) << "an old run differs from today's defaults";
 }
 
 }  // namespace
