@@ -90,9 +90,10 @@ TEST(LivePage, SnapshotHasStatusEventsAndALabelledThumbnail) {
   nlohmann::json snapshot;
   ASSERT_TRUE(WaitFor([&] {
     snapshot = f.Snapshot();
-    return snapshot.contains("thumbnails") && !snapshot["thumbnails"].empty();
+    return snapshot.contains("thumbnails") && !snapshot["thumbnails"].empty() && !snapshot["events"].empty();
   }));
   EXPECT_EQ(snapshot["status"]["state"], "recording");
+  ASSERT_FALSE(snapshot["events"].empty()) << snapshot.dump();  // front() of an empty array is undefined
   EXPECT_EQ(snapshot["events"].front()["detail"], "recording session s");
   const nlohmann::json& t = snapshot["thumbnails"][0];
   EXPECT_EQ(t["camera"], "cam");
