@@ -77,8 +77,17 @@ struct Refined {
 /// one by the full a(M, S) (ties by inlier RMSE), so a hypothesis that the subsample ranked second can
 /// still win.
 void RefineBest(const PointGrid& scene_grid, const CropSource& model, const AcquisitionOptions& options,
-                const AlignmentOptions& alignment, const std::vector<int>& order, AcquisitionResult* result) {
+                const AlignmentOptions& alignment, std::vector<int> order, const Rigid3d* prior, AcquisitionResult* result) {
   const int count = std::min<int>(options.refine_count, static_cast<int>(order.size()));
+  // Seeded at a prior (the last hypothesis is the prior where it is): where its coarse score ties with
+  // the best, it is refined too, in the last slot, so that a tie can be settled by nearness below.
+  if (prior && count > 1) {
+    const int seed = static_cast<int>(result->hypotheses.size()) - 1;
+    const auto at = std::find(order.begin(), order.end(), seed);
+    const double top_coarse = result->hypotheses[order[0]].score.score;
+    if (at - order.begin() >= count && result->hypotheses[seed].score.score >= top_coarse - options.score_tie)
+      std::rotate(order.begin() + count - 1, at, at + 1);
+  }
   std::vector<Refined> refined(count);
   const Registration& registration = RegistrationOrOwn(options.registration);
 #pragma omp parallel for schedule(dynamic, 1)
@@ -96,6 +105,17 @@ void RefineBest(const PointGrid& scene_grid, const CropSource& model, const Acqu
     if (RanksBefore(refined[j].score, refined[j].icp.inlier_rmse_m, refined[win].score,
                     refined[win].icp.inlier_rmse_m, top, options.score_tie))
       win = j;
+  // Tied in score and in inlier RMSE (within prior_rmse_tie of the winner's): the depth does not tell the
+  // poses apart (a table top anywhere in its plane), so the one nearest the prior is kept, and the slide the
+  // depth cannot see is not reported as the estimate's.
+  if (prior) {
+    const double rmse_bound = refined[win].icp.inlier_rmse_m * (1.0 + options.prior_rmse_tie);
+    for (int j = 0; j < count; ++j)
+      if (refined[j].score >= top - options.score_tie && refined[j].icp.inlier_rmse_m <= rmse_bound &&
+          TranslationDistanceM(refined[j].icp.T_target_source, *prior) <
+              TranslationDistanceM(refined[win].icp.T_target_source, *prior))
+        win = j;
+  }
   result->best = order[win];
   result->refine = refined[win].icp;
   result->refined_crop = std::move(refined[win].crop);
@@ -105,13 +125,13 @@ void RefineBest(const PointGrid& scene_grid, const CropSource& model, const Acqu
 
 /// Coarse-to-fine hypothesis pruning (docs/validation.md "Acquisition"), then the epsilon test.
 void RunHypotheses(const PointGrid& scene_grid, const CropSource& model, const AcquisitionOptions& options,
-                   const AlignmentOptions& alignment, AcquisitionResult* result) {
+                   const AlignmentOptions& alignment, const Rigid3d* prior, AcquisitionResult* result) {
   if (result->hypotheses.empty()) {
     result->reason = "no hypotheses";
     return;
   }
   const std::vector<int> order = RegisterCoarse(scene_grid, options, alignment, result);
-  RefineBest(scene_grid, model, options, alignment, order, result);
+  RefineBest(scene_grid, model, options, alignment, order, prior, result);
   result->acquired = result->score >= options.epsilon;
   if (!result->acquired)
     result->reason = Str("best alignment score ", result->score, " below epsilon ", options.epsilon);
@@ -131,6 +151,7 @@ void AcquisitionOptions::check() const {
   if (!(score_tie >= 0 && score_tie < 1)) throw InputError("AcquisitionOptions", "score_tie must lie in [0, 1)");
   if (hypothesis_stride < 1) throw InputError("AcquisitionOptions", "hypothesis_stride must be >= 1");
   if (refine_count < 1) throw InputError("AcquisitionOptions", "refine_count must be >= 1");
+  if (!(prior_rmse_tie >= 0 && prior_rmse_tie < 1)) throw InputError("AcquisitionOptions", "prior_rmse_tie must lie in [0, 1)");
   icp.check();
   refine_icp.check();
 }
@@ -165,7 +186,7 @@ AcquisitionResult Acquire(const PointCloud& scene, const PointGrid& scene_grid, 
       result.hypotheses.push_back({PlaceAtMedian(R, crops[c], median), {}, {}, c});
     }
   }
-  RunHypotheses(scene_grid, model, options, alignment, &result);
+  RunHypotheses(scene_grid, model, options, alignment, nullptr, &result);
   return result;
 }
 
@@ -197,8 +218,12 @@ AcquisitionResult AcquireAround(const PointCloud& scene, const PointGrid& scene_
       result.hypotheses.push_back({PlaceAtMedian(starts[i].rotation_matrix(), result.crops[i], median), {}, {}, i});
   // The prior where it is, too: the median of a partly seen object (a table top cut by the image) is not
   // the median of its crop, and along directions the depth barely constrains ICP would not find the way back.
-  if (!result.crops[0].points_model.empty()) result.hypotheses.push_back({T_camera_model_prior, {}, {}, 0});
-  RunHypotheses(scene_grid, model, options, alignment, &result);
+  if (result.crops[0].points_model.empty()) {
+    RunHypotheses(scene_grid, model, options, alignment, nullptr, &result);
+    return result;
+  }
+  result.hypotheses.push_back({T_camera_model_prior, {}, {}, 0});
+  RunHypotheses(scene_grid, model, options, alignment, &T_camera_model_prior, &result);
   return result;
 }
 

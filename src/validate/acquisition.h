@@ -50,6 +50,9 @@ struct AcquisitionOptions {
   /// Fine stage: this many of the best-ranked hypotheses are refined (in parallel: 2 fills two
   /// cores) and the best refined one wins. 1 trusts the coarse ranking alone.
   int refine_count = 2;
+  /// Seeded at a prior (AcquireAround): refined hypotheses tied in score and with an inlier RMSE within
+  /// this fraction of the winner's are told apart by nearness to the prior (the depth cannot).
+  double prior_rmse_tie = 0.05;
   /// The refinement ("a few iterations of the tracking phase" in the paper): the crop is recomputed as
   /// seen from the hypothesis's pose (a crop from a neighbouring view lacks part of the visible
   /// surface and can settle a few millimetres off) and registered, every 3rd point until converged,
