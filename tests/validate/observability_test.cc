@@ -160,6 +160,17 @@ TEST_F(TableTest, ReportsACentimetreSlideInItsPlaneAsUnobservableNotAsAgreement)
   EXPECT_LT(c.observed.position_mm, 2.0) << c.reason;
 }
 
+TEST_F(TableTest, ALabelSlidInItsPlaneKeepsTheEstimateAtTheLabelWhereTheDepthCannotTell) {
+  // The top alone is in view: anywhere in its plane fits the depth equally. The label-seeded acquisition
+  // settles the tie by nearness to the label, so the estimate does not wander along the plane.
+  const Rigid3d label = T_camera_table_ * Rigid3d::FromRvec({0, 0, 0}, {0.007, 0.007, 0});
+  options_.check_seed = AcquisitionSeed::kLabel;
+  const LabelCheck c = Check(label);
+  ASSERT_TRUE(c.estimated) << c.reason;
+  EXPECT_LT(TranslationDistanceM(c.T_camera_object_segicp, label), 0.003) << c.reason;
+  EXPECT_EQ(c.verdict, Verdict::kAccept) << c.reason;
+}
+
 TEST(Observability, ABodyOfRevolutionHidesOnlyItsSpin) {
   const TriangleMesh cone = Cone();
   const SurfaceCropSource surface = SurfaceCropSource::FromMesh(cone, CropOptions{});
