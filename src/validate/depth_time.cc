@@ -34,6 +34,8 @@ DepthTimeMoves MoveLabelsToDepthTime(const SessionReader& session, std::vector<R
   std::vector<Rigid3d> moved(records.size());
   std::vector<int64_t> shift_ns(records.size(), 0);
   for (RecordCheck& r : records) {
+    // A record naming no frame of the session is left as it is: the session check reports it by name.
+    if (!session.manifest().FindCamera(r.camera) || r.index < 0 || r.index >= session.frame_count(r.camera)) continue;
     const CameraFrameRecord& frame = session.frame(r.camera, r.index).record;
     r.depth_offset_ns = frame.depth_time_ns() - frame.stamp_ns;
   }

@@ -92,6 +92,15 @@ TEST(DepthTime, DepthTakenWithColourLeavesEveryLabelAsItWas) {
   EXPECT_NEAR(records[1].T_camera_object_label.translation().x(), 0.01, 0);
 }
 
+TEST(DepthTime, ARecordNamingNoFrameOfTheSessionIsLeftForTheSessionCheckToReport) {
+  const SessionReader session = SessionReader::Open(WriteSession("depth_time_foreign", kDelayNs));
+  std::vector<RecordCheck> records = {Label(7, 1, Eigen::Vector3d(0, 0, 1)), Label(1, 1, Eigen::Vector3d(0.01, 0, 1))};
+  records[1].camera = "kinect9";
+  const DepthTimeMoves moves = MoveLabelsToDepthTime(session, records);
+  EXPECT_EQ(moves.moved + moves.unmovable, 0);
+  for (const RecordCheck& r : records) EXPECT_EQ(r.depth_offset_ns, 0);
+}
+
 TEST(DepthTime, ADepthStampSecondsFromItsColourIsAReadingError) {
   const std::filesystem::path dir = WriteSession("depth_time_corrupt", 2'000'000'000);
   try {
