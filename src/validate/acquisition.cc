@@ -218,12 +218,9 @@ AcquisitionResult AcquireAround(const PointCloud& scene, const PointGrid& scene_
       result.hypotheses.push_back({PlaceAtMedian(starts[i].rotation_matrix(), result.crops[i], median), {}, {}, i});
   // The prior where it is, too: the median of a partly seen object (a table top cut by the image) is not
   // the median of its crop, and along directions the depth barely constrains ICP would not find the way back.
-  if (result.crops[0].points_model.empty()) {
-    RunHypotheses(scene_grid, model, options, alignment, nullptr, &result);
-    return result;
-  }
-  result.hypotheses.push_back({T_camera_model_prior, {}, {}, 0});
-  RunHypotheses(scene_grid, model, options, alignment, &T_camera_model_prior, &result);
+  const bool seeded = !result.crops[0].points_model.empty();
+  if (seeded) result.hypotheses.push_back({T_camera_model_prior, {}, {}, 0});
+  RunHypotheses(scene_grid, model, options, alignment, seeded ? &T_camera_model_prior : nullptr, &result);
   return result;
 }
 
