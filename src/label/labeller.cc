@@ -9,7 +9,7 @@
 #include <time.h>
 
 #include "core/check.h"
-#include "label/depth_in_color.h"
+#include "session/depth_in_color.h"
 #include "render/mesh.h"
 #include "render/mesh_closure.h"
 

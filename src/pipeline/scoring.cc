@@ -9,7 +9,7 @@
 
 #include "core/check.h"
 #include "core/rigid3.h"
-#include "label/depth_in_color.h"
+#include "session/depth_in_color.h"
 #include "session/manifest.h"
 #include "session/reader.h"
 #include "pipeline/json_read.h"

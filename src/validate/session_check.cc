@@ -11,7 +11,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "core/check.h"
-#include "core/depth_registration.h"
+#include "session/depth_in_color.h"
 #include "render/mesh.h"
 #include "session/records.h"
 #include "validate/depth_time.h"
@@ -66,15 +66,13 @@ FrameInputs LoadFrame(const SessionReader& session, const LabelRunView& labels, 
     in.depth_problem = "frame has no depth image";
   } else {
     try {
-      in.depth_m = session.LoadDepth(camera, index);
       // A sensor whose depth camera sits beside its colour camera (Kinect v2): the labels are in the
-      // colour image, so the depth is warped there first, as the exporters do.
-      if (!info->depth_registered_to_color) {
-        const auto calibrated = options.T_color_depth.find(camera);
-        in.depth_m = RegisterDepthToColor(in.depth_m, info->depth_camera, info->color_camera,
-                                          calibrated != options.T_color_depth.end() ? calibrated->second
-                                                                                    : info->T_color_depth);
-      }
+      // colour image, so the depth is warped there first, as the labeller does.
+      const auto calibrated = options.T_color_depth.find(camera);
+      const DepthInColor registration = DepthInColor::Of(
+          *info, info->color_camera,
+          calibrated != options.T_color_depth.end() ? std::optional<Rigid3d>(calibrated->second) : std::nullopt);
+      in.depth_m = LoadDepthInColor(session, camera, index, registration);
     } catch (const InputError& e) {
       in.depth_problem = e.what();
       in.depth_code = VerdictReason::kUnreadableInput;

@@ -1,4 +1,4 @@
-// A Kinect v2's depth registered into the colour image (label/depth_in_color.h, core/depth_registration.h)
+// A Kinect v2's depth registered into the colour image (session/depth_in_color.h, core/depth_registration.h)
 // and the combined visibility rule on it: the registration leaves a hole beside a nearer surface (the
 // baseline's occlusion shadow: colour pixels the depth camera cannot see), which the hole rule must keep
 // on the object behind, while the near surface itself hides it. Drawn one character per pixel.
@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "core/check.h"
-#include "label/depth_in_color.h"
+#include "session/depth_in_color.h"
 #include "label/object_labels.h"
 
 namespace mocap {

@@ -1,9 +1,9 @@
 #pragma once
 // The measured depth of a camera frame in its colour image, where the labels are: as stored when the
 // sensor registers it (Kinect v1, TUM, BOP), else warped there through T_color_depth
-// (core/depth_registration.h; Kinect v2), as the validator and the exporters do. The labeller and the
-// scorer's visible masks (pipeline/scoring.h) both read depth through this, so they judge the same
-// image. A registered image has holes the raw one has not: colour pixels the depth camera cannot see
+// (core/depth_registration.h; Kinect v2), as the exporters do. The labeller, the scorer's visible masks
+// (pipeline/scoring.h) and the validator (validate/session_check.cc) read depth through this, so they
+// judge the same image. A registered image has holes the raw one has not: colour pixels the depth camera cannot see
 // (the occlusion shadow of the baseline beside a nearer surface) and pixels no depth pixel reaches;
 // the combined visibility rule judges them as any hole (label/depth_holes.h).
 #include <optional>

@@ -1,4 +1,4 @@
-#include "label/depth_in_color.h"
+#include "session/depth_in_color.h"
 
 #include "core/check.h"
 #include "core/depth_registration.h"
