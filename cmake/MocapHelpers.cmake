@@ -15,6 +15,10 @@ endfunction()
 
 if(MOCAP_SANITIZE)
   add_compile_options(-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined)
+  # A Debug sanitizer build at -O1 with line tables (-g1 after CMake's -g wins): AddressSanitizer's own
+  # advice for usable speed, and reports still name function, file and line. At -O0 with full -g the
+  # instrumented Eigen loops made the sanitizer run most of CI's time (docs/architecture.md "Build").
+  add_compile_options($<$<CONFIG:Debug>:-O1> $<$<CONFIG:Debug>:-g1>)
   add_link_options(-fsanitize=address,undefined)
 endif()
 
