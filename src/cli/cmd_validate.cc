@@ -33,6 +33,13 @@ void PrintHuman(const ValidationSummary& s, const fs::path& out) {
   std::printf("\nposition error median %.2f mm (p95 %.2f), rotation median %.2f deg (p95 %.2f)\n",
               s.position_error_mm.median, s.position_error_mm.p95, s.rotation_angle_error_deg.median,
               s.rotation_angle_error_deg.p95);
+  if (s.session_wide) {
+    if (!s.session_wide->ran) std::printf("session-wide check not run: %s\n", s.session_wide->why_not.c_str());
+    for (const std::string& f : s.session_wide->findings) std::printf("session-wide: %s\n", f.c_str());
+    if (s.session_wide->records_flagged > 0)
+      std::printf("session-wide: %lld accepted records made suspect (camera_mount_off)\n",
+                  static_cast<long long>(s.session_wide->records_flagged));
+  }
   if (s.has_segmentation)
     std::printf("masks: IoU median %.3f (std %.3f), precision %.3f, recall %.3f\n", s.iou.median, s.iou.std,
                 s.precision.median, s.recall.median);
@@ -70,6 +77,9 @@ int RunValidate(int argc, char** argv) {
   app.add_option("--objects-only", request.only_object_names, "check only these objects (names, comma-separated)")
       ->delimiter(',')
       ->excludes(skip);
+  bool no_session_wide = false;
+  app.add_flag("--no-session-wide", no_session_wide,
+               "leave out the session-wide step (a camera mount the records together show off flags that camera's labels)");
   app.add_flag("--json", json, "print validation.json on stdout");
   ProgressFlags progress_flags;
   AddProgressFlags(app, progress_flags);
@@ -90,6 +100,7 @@ int RunValidate(int argc, char** argv) {
   options.context.platform = EglPlatformFromString(platform);
   const fs::path out = out_dir.empty() ? fs::path(session_dir) / "validation" : fs::path(out_dir);
   request.out_dir = out;
+  request.session_wide.enabled = !no_session_wide;
   const SessionValidation result = pipeline::RunValidate(request);
   if (json)
     std::printf("%s\n", pipeline::ReadJsonFile(pipeline::ValidationRunLayout{out}.summary_json()).dump().c_str());

@@ -9,8 +9,10 @@
 #include "core/check.h"
 #include "pipeline/json_read.h"
 #include "pipeline/label_run.h"
+#include "pipeline/object_library.h"
 #include "pipeline/provenance.h"
 #include "pipeline/publish.h"
+#include "pipeline/session_wide.h"
 #include "pipeline/validation_run.h"
 #include "validate/report_html.h"
 #include "pipeline/yaml_write.h"
@@ -57,17 +59,37 @@ void CheckTiling(std::vector<ShardRun>& shards) {
 
 /// The lines of a JSON-lines file by their "camera" field, in file order, as written: a merge copies
 /// bytes, so the merged file is the one a single pass writes (a parse and a dump need not be).
-std::map<std::string, std::string> LinesByCamera(const fs::path& file) {
+std::map<std::string, std::vector<std::string>> LineListsByCamera(const fs::path& file) {
   const auto records = ReadJsonLines(file);  // every line a whole JSON object, or an error naming it
   std::ifstream in(file, std::ios::binary);
-  std::map<std::string, std::string> out;
+  std::map<std::string, std::vector<std::string>> out;
   size_t k = 0;
   for (std::string line; std::getline(in, line);) {
     if (line.empty()) continue;
     const auto& [where, j] = records.at(k++);
-    out[JsonFields(j, where).String("camera")] += line + "\n";
+    out[JsonFields(j, where).String("camera")].push_back(line + "\n");
   }
   return out;
+}
+std::map<std::string, std::string> LinesByCamera(const fs::path& file) {
+  std::map<std::string, std::string> out;
+  for (const auto& [camera, lines] : LineListsByCamera(file))
+    for (const std::string& line : lines) out[camera] += line;
+  return out;
+}
+
+/// The session-wide step over the merged records when the shards were asked for it (run.json options
+/// "session_wide"; a shard leaves it to the merge): the lines of the records it flags get their new
+/// verdict, every other line stays as the shard wrote it.
+void ApplySessionWideStep(const RunProvenance& run, SessionValidation& merged, std::vector<std::string>& lines) {
+  if (!run.options.value("session_wide", false)) return;
+  const std::vector<ValidationObject> objects = ValidationObjectsOf(ReadObjectLibrary(RecordedInput(run, "objects")));
+  for (size_t i : FlagSessionWideErrors(merged, objects, {})) {
+    json j = json::parse(lines[i]);
+    const LabelCheck& c = merged.records[i].check;
+    j["verdict"] = ToString(c.verdict), j["reason_code"] = ToString(c.reason_code), j["reason"] = c.reason;
+    lines[i] = j.dump() + "\n";
+  }
 }
 
 /// Moves every file of `from` (but the run's own files) into `to`, folder by folder.
@@ -179,27 +201,31 @@ void MergeValidationShards(const std::vector<fs::path>& shard_dirs, const fs::pa
   PartialOutput output(out, "validation.json", "validation");
   int64_t total = 0;
   std::vector<std::map<std::string, std::vector<RecordCheck>>> by_camera;
-  std::vector<std::map<std::string, std::string>> lines_by_camera;
+  std::vector<std::map<std::string, std::vector<std::string>>> lines_by_camera;
   for (const ShardRun& s : shards) {
     ValidationRun run = ValidationRun::Read(s.dir);
     total += run.summary.at("records").get<int64_t>();
     auto& cameras = by_camera.emplace_back();
     for (RecordCheck& r : run.records) cameras[r.camera].push_back(std::move(r));
-    lines_by_camera.push_back(LinesByCamera(run.layout.records_jsonl()));
+    lines_by_camera.push_back(LineListsByCamera(run.layout.records_jsonl()));
   }
   // One pass checks labels.jsonl's records in order: camera by camera, each camera's frames in order.
   const fs::path labels = shards.front().manifest.at("labels").get<std::string>();
   const json label_manifest = ReadJsonFile(LabelRunLayout{labels}.manifest_json());
   SessionValidation merged;
-  std::string jsonl;
+  std::vector<std::string> lines;  // lines[i] is merged.records[i]'s
   for (const json& camera : label_manifest.at("cameras")) {
     const std::string name = camera.get<std::string>();
     for (size_t k = 0; k < shards.size(); ++k) {
       for (RecordCheck& r : by_camera[k][name]) merged.records.push_back(std::move(r));
-      jsonl += lines_by_camera[k][name];
+      for (std::string& line : lines_by_camera[k][name]) lines.push_back(std::move(line));
     }
   }
+  MOCAP_CHECK(lines.size() == merged.records.size(), "validation shards: ", lines.size(), " lines for ", merged.records.size(), " records");
   merged.summary = Summarise(merged.records, total);
+  ApplySessionWideStep(shards.front().provenance, merged, lines);
+  std::string jsonl;
+  for (const std::string& line : lines) jsonl += line;
   WriteMergedValidation(merged, jsonl, shards.front().manifest, output.dir(), out);
   RunProvenance run = shards.front().provenance;
   run.shard = nullptr;

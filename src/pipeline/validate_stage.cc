@@ -54,19 +54,24 @@ SessionValidation RunValidate(const ValidateRunRequest& request) {
   const RunRecord record{request.command, {{"objects", objects_file, false, {}}}, request.shard.ToJson(),
                          ObjectsInSession(library, session.manifest())};
   return ValidateIntoRun(session, ValidationObjectsOf(library), LabelRunViewOf(labels, request.shard.begin, request.shard.end),
-                         options, request.out_dir, record);
+                         options, request.out_dir, record, request.session_wide);
 }
 
 SessionValidation ValidateIntoRun(const SessionReader& session, const std::vector<ValidationObject>& objects,
                                   LabelRunView labels, const SessionCheckOptions& options, const fs::path& out,
-                                  const RunRecord& record) {
+                                  const RunRecord& record, const SessionWideOptions& session_wide) {
   options.check();
+  session_wide.check();
   PartialOutput output(out, "validation.json", "validation");
-  const SessionValidation validation = CheckSession(session, objects, std::move(labels), options);
+  SessionValidation validation = CheckSession(session, objects, std::move(labels), options);
+  const bool shard = options.frame_begin != 0 || options.frame_end != -1;
+  if (session_wide.enabled && !shard) FlagSessionWideErrors(validation, objects, session_wide);
   std::vector<InputSpec> inputs = {SessionInput(session.dir()), RunFolderInput("labels", options.labels_dir)};
   inputs.insert(inputs.end(), record.inputs.begin(), record.inputs.end());
   for (InputSpec& mesh : MeshInputs(objects)) inputs.push_back(std::move(mesh));
-  WriteProvenance(output.dir(), "validation", record.command, RecordedOptions(ToJson(options), record), inputs, record.shard);
+  nlohmann::json recorded = ToJson(options);
+  recorded["session_wide"] = session_wide.enabled;
+  WriteProvenance(output.dir(), "validation", record.command, RecordedOptions(std::move(recorded), record), inputs, record.shard);
   WriteValidationRun(validation, options, session.dir(), output.dir(), out);
   output.Publish();
   return validation;

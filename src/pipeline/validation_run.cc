@@ -96,7 +96,7 @@ RecordCheck RecordCheckFromJson(const nlohmann::json& j, const std::string& wher
   if (f.Has("depth_offset_ns")) r.depth_offset_ns = f.Integer("depth_offset_ns"), r.label_shift_ns = f.Integer("label_shift_ns");
   LabelCheck& c = r.check;
   c.verdict = ParseEnum<Verdict>(f, "verdict", Verdict::kReject);
-  c.reason_code = ParseEnum<VerdictReason>(f, "reason_code", VerdictReason::kUnreadableInput);
+  c.reason_code = ParseEnum<VerdictReason>(f, "reason_code", VerdictReason::kCameraMountOff);
   c.reason = f.String("reason");
   c.scene_points = static_cast<int>(f.Integer("scene_points"));
   c.estimated = f.Bool("estimated");
@@ -154,6 +154,9 @@ nlohmann::json ValidationSummaryJson(const ValidationSummary& s, const SessionCh
     j["labels_moved_to_depth_time"] = s.labels_moved_to_depth_time;
     j["labels_not_movable_to_depth_time"] = s.labels_not_movable_to_depth_time;
   }
+  if (s.session_wide)
+    j["session_wide"] = {{"ran", s.session_wide->ran}, {"why_not", s.session_wide->why_not},
+                         {"findings", s.session_wide->findings}, {"records_flagged", s.session_wide->records_flagged}};
   if (s.has_segmentation)
     j["segmentation"] = {{"iou", StatJson(s.iou)}, {"precision", StatJson(s.precision)}, {"recall", StatJson(s.recall)}};
   return j;

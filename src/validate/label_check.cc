@@ -99,6 +99,7 @@ std::string_view ToString(VerdictReason reason) {
     case VerdictReason::kEmptyMask: return "empty_mask";
     case VerdictReason::kTooFewPoints: return "too_few_points";
     case VerdictReason::kUnreadableInput: return "unreadable_input";
+    case VerdictReason::kCameraMountOff: return "camera_mount_off";
   }
   return "unknown";
 }

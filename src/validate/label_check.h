@@ -31,6 +31,9 @@ enum class VerdictReason {
   kEmptyMask,            ///< no pixel carries the object's label
   kTooFewPoints,         ///< too few valid depth points under the mask
   kUnreadableInput,      ///< the frame's depth or mask file is missing or cannot be read
+  /// Accepted on its own, but the session's records together show this label's camera mount off
+  /// (pipeline/session_wide.h): every label of that camera carries the error.
+  kCameraMountOff,
 };
 std::string_view ToString(VerdictReason reason);
 /// True for the reasons given when the input could not be checked (no estimate was attempted).

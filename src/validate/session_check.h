@@ -104,6 +104,14 @@ struct Stat {
 };
 Stat ComputeStat(std::vector<double> values);
 
+/// The session-wide step's outcome (pipeline/session_wide.h runs it after CheckSession).
+struct SessionWideSummary {
+  bool ran = false;
+  std::string why_not;                ///< when it did not run
+  std::vector<std::string> findings;  ///< one line each; empty: nothing looks wrong session-wide
+  int64_t records_flagged = 0;        ///< accepted records made suspect by a finding
+};
+
 struct ValidationSummary {
   int64_t records = 0;               ///< labels.jsonl records
   int64_t records_without_pose = 0;  ///< not checked: the label has no pose
@@ -122,6 +130,7 @@ struct ValidationSummary {
   Stat label_score;
   bool has_segmentation = false;
   Stat iou, precision, recall;  ///< with user masks
+  std::optional<SessionWideSummary> session_wide;  ///< absent where the step was not asked for
   double seconds = 0.0;
 };
 

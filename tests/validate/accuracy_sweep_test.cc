@@ -1,7 +1,7 @@
 // The session check's accuracy over the scenarios of scenarios/accuracy/ (docs/validation.md "Accuracy
 // over scenarios"): seeds, a robot head and a hand-held camera, close and far, a hand in front, two
 // objects moving, a Kinect v2. Each scenario is recorded, labelled with the true calibration and with
-// four wrong ones, and checked; the figures are printed per scenario and per object and written to
+// four wrong ones, and checked as `mocaplabel validate` checks (each record, then the session-wide step); the figures are printed per scenario and per object and written to
 // <build>/accuracy_sweep/<scenario>.md. The targets: correct labels >= 98 % accepted, SegICP success
 // >= 98 %, wrong labels >= 95 % flagged. A label wrong mostly in directions the depth does not
 // constrain (a table slid in its own plane: less than half the error's size left in the observable
@@ -12,11 +12,10 @@
 #include <fstream>
 #include <map>
 
-#include "calibrate/calibration_check.h"
 #include "cli/scenario_yaml.h"
-#include "pipeline/calibration_records.h"
 #include "pipeline/demo.h"
 #include "pipeline/record_stage.h"
+#include "pipeline/session_wide.h"
 #include "session_fixture.h"
 #include "tests/pipeline/label_run_testing.h"
 
@@ -89,11 +88,14 @@ class AccuracySweep : public ::testing::TestWithParam<std::string> {
     pipeline::LabelRecording(record_, sim::ApplyCalibrationErrors(record_.truth.true_calibration, errors), labels, options);
     return labels;
   }
+  /// What `mocaplabel validate` does: the per-record checks, then the session-wide step.
   SessionValidation Check(const fs::path& labels) const {
     SessionCheckOptions o;
     o.labels_dir = labels;
     o.threads = 2;
-    return CheckSession(SessionReader::Open(record_.session_dir), objects_, o);
+    SessionValidation v = CheckSession(SessionReader::Open(record_.session_dir), objects_, o);
+    pipeline::FlagSessionWideErrors(v, objects_, {});
+    return v;
   }
   const ValidationObject& Object(int id) const {
     for (const ValidationObject& o : objects_)
@@ -120,21 +122,12 @@ class AccuracySweep : public ::testing::TestWithParam<std::string> {
   std::vector<ValidationObject> objects_;
 };
 
-/// What `calibrate check` says of a validation: the session-level test of the same records (one camera
-/// mount, object mount or latency error shared by many labels), "nothing" when no item looks wrong.
-std::string CalibrationCheckSays(const SessionValidation& validation, const std::vector<ValidationObject>& objects) {
-  const std::vector<CheckRecord> records = pipeline::CalibrationCheckRecords(validation.records, objects);
-  const CalibrationCheckResult result = CheckCalibration(records);
+/// What the session-wide step (the calibration self-check of the same records) found, "nothing" when no
+/// item looks wrong; a camera mount it finds flags that camera's accepted records.
+std::string SessionWideSays(const SessionValidation& validation) {
+  if (!validation.summary.session_wide || !validation.summary.session_wide->ran) return "not run";
   std::string says;
-  for (const CheckFinding& f : result.findings) {
-    char text[160];
-    if (f.kind == CheckItemKind::kLatency)
-      std::snprintf(text, sizeof text, "latency %+.1f ms", f.latency_error_ms);
-    else
-      std::snprintf(text, sizeof text, "%s %s %.1f mm %.1f deg", std::string(ToString(f.kind)).c_str(), f.name.c_str(),
-                    f.size_mm, f.size_deg);
-    says += (says.empty() ? "" : "; ") + std::string(text);
-  }
+  for (const std::string& finding : validation.summary.session_wide->findings) says += (says.empty() ? "" : "; ") + finding;
   return says.empty() ? "nothing" : says;
 }
 
@@ -147,7 +140,12 @@ void WriteRecordLine(std::ostream& csv, const std::string& labels, const RecordC
       << ToString(c.reason_code) << ',' << c.segicp_reliable << ',' << judged.position_mm << ',' << judged.rotation_deg
       << ',' << c.precision.position_mm << ',' << c.precision.rotation_deg << ',' << c.accept_position_mm << ','
       << c.accept_rotation_deg << ',' << c.observability.supported_points << ','
-      << 1e3 * c.observability.residual_rms_m << ',' << c.observability.observable << ',' << r.mode << '\n';
+      << 1e3 * c.observability.residual_rms_m << ',' << c.observability.observable << ',' << r.mode;
+  // The estimate's offset from the label along the camera's ray to the object and across it: a depth
+  // biased in range (a time-of-flight camera on a reflective surface) shows along the ray.
+  const Eigen::Vector3d ray = r.T_camera_object_label.translation().normalized();
+  const Eigen::Vector3d offset = c.T_camera_object_segicp.translation() - r.T_camera_object_label.translation();
+  csv << ',' << 1e3 * offset.dot(ray) << ',' << 1e3 * (offset - offset.dot(ray) * ray).norm() << '\n';
 }
 
 std::string Row(const std::string& scenario, const std::string& object, const ObjectFigures& f) {
@@ -171,10 +169,10 @@ TEST_P(AccuracySweep, CorrectLabelsAcceptedAndWrongLabelsFlagged) {
   fs::create_directories(fs::path(MOCAP_BINARY_DIR) / "accuracy_sweep");
   std::ofstream csv(fs::path(MOCAP_BINARY_DIR) / "accuracy_sweep" / (GetParam() + ".csv"));
   csv << "labels,object,index,wrong,verdict,reason,reliable,judged_mm,judged_deg,precision_mm,precision_deg,"
-         "accept_mm,accept_deg,supported,residual_mm,observable,mode\n";
+         "accept_mm,accept_deg,supported,residual_mm,observable,mode,along_ray_mm,across_ray_mm\n";
   for (const RecordCheck& r : correct_check.records)
     if (!IsBadInput(r.check.reason_code)) WriteRecordLine(csv, "correct", r, false);
-  std::map<std::string, std::string> check_says = {{"correct labels", CalibrationCheckSays(correct_check, objects_)}};
+  std::map<std::string, std::string> check_says = {{"correct labels", SessionWideSays(correct_check)}};
   for (const RecordCheck& r : correct_check.records) {
     for (const std::string& key : {r.name, std::string("all")}) {
       ObjectFigures& f = figures[key];
@@ -202,7 +200,7 @@ TEST_P(AccuracySweep, CorrectLabelsAcceptedAndWrongLabelsFlagged) {
   for (const WrongKind& kind : kWrongKinds) {
     const SessionValidation checked = Check(wrong_labels.at(kind.name));
     if (kind.name == "camera mount 5 mm" || kind.name == "latency 50 ms")
-      check_says[kind.name] = CalibrationCheckSays(checked, objects_);
+      check_says[kind.name] = SessionWideSays(checked);
     const auto wrong_as_written = LabelsAsWritten(wrong_labels.at(kind.name));
     for (const RecordCheck& r : checked.records) {
       const auto it = correct.find({r.index, r.instance});
@@ -231,8 +229,8 @@ TEST_P(AccuracySweep, CorrectLabelsAcceptedAndWrongLabelsFlagged) {
     md << row << '\n';
   }
   for (const auto& [labels, says] : check_says) {
-    std::printf("calibrate check, %s: %s\n", labels.c_str(), says.c_str());
-    md << "calibrate check, " << labels << ": " << says << '\n';
+    std::printf("session-wide, %s: %s\n", labels.c_str(), says.c_str());
+    md << "session-wide, " << labels << ": " << says << '\n';
   }
   ObjectFigures& all = figures["all"];
   EXPECT_GE(all.accepted.n, 100) << "records checked with correct labels";
