@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <map>
 
 #include "calibrate/check_model.h"
@@ -21,6 +22,18 @@ std::string_view ToString(CheckItemKind kind) {
     case CheckItemKind::kLatency: return "latency";
   }
   return "?";
+}
+
+std::string MountSizeText(const CheckFinding& f) {
+  const auto fixed = [](double value) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.2f", value);
+    return std::string(text);
+  };
+  std::string out;
+  if (f.ci95_mm > 0) out = Str(fixed(f.size_mm), " mm (95 %: +-", fixed(f.ci95_mm), ")");
+  if (f.ci95_deg > 0) out += Str(out.empty() ? "" : " and ", fixed(f.size_deg), " deg (95 %: +-", fixed(f.ci95_deg), ")");
+  return out;
 }
 
 void CalibrationCheckOptions::check() const {

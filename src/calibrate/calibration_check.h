@@ -67,6 +67,10 @@ struct CalibrationCheckOptions {
 
 enum class CheckItemKind { kCameraMount, kObjectMount, kLatency };
 std::string_view ToString(CheckItemKind kind);
+struct CheckFinding;
+/// A mount finding's size as reports write it: "4.40 mm (95 %: +-0.26)", "3.10 deg (95 %: +-0.20)" or
+/// both, the parts the check let in (a zero interval: not fitted).
+std::string MountSizeText(const CheckFinding& finding);
 
 /// A calibration item that looks wrong.
 struct CheckFinding {

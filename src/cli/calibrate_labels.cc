@@ -153,20 +153,6 @@ Corrected ApplyFindings(const LabelsCalibrationArgs& a, const CalibrationCheckRe
   return c;
 }
 
-std::string Fixed(double value, int digits) {
-  char text[64];
-  std::snprintf(text, sizeof text, "%.*f", digits, value);
-  return text;
-}
-
-/// "4.40 mm (95 %: +-0.26)", "3.10 deg (95 %: +-0.20)" or both: the parts the check let in.
-std::string MountSize(const CheckFinding& f) {
-  std::string out;
-  if (f.ci95_mm > 0) out = Str(Fixed(f.size_mm, 2), " mm (95 %: +-", Fixed(f.ci95_mm, 2), ")");
-  if (f.ci95_deg > 0) out += Str(out.empty() ? "" : " and ", Fixed(f.size_deg, 2), " deg (95 %: +-", Fixed(f.ci95_deg, 2), ")");
-  return out;
-}
-
 void PrintCheck(const CalibrationCheckResult& r, const Corrected& c) {
   std::printf("calibration check from %d reliable SegICP estimates (%d with motion):\n", r.records, r.records_with_motion);
   if (r.findings.empty()) std::printf("  nothing looks wrong\n");
@@ -176,7 +162,7 @@ void PrintCheck(const CalibrationCheckResult& r, const Corrected& c) {
                   f.latency_ci95_ms, static_cast<double>(c.rig.tracker_latency_ns) / 1e6);
     else
       std::printf("  the %s of %s looks off by %s; explains %.0f %% of the disagreement\n",
-                  f.kind == CheckItemKind::kCameraMount ? "camera mount" : "object mount", f.name.c_str(), MountSize(f).c_str(),
+                  f.kind == CheckItemKind::kCameraMount ? "camera mount" : "object mount", f.name.c_str(), MountSizeText(f).c_str(),
                   100 * f.explained_share);
   }
   std::printf("  median disagreement per camera/object, mm / deg, before -> after the corrections:\n");

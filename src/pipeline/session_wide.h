@@ -28,7 +28,7 @@ struct SessionWideOptions {
 std::vector<size_t> FlagSessionWideErrors(SessionValidation& validation, const std::vector<ValidationObject>& objects,
                                           const SessionWideOptions& options);
 
-/// One line for reports: "camera_mount kinect1 4.9 mm (95 % +-0.6) 0.0 deg", "latency +42.4 ms".
+/// One line for reports: "camera_mount kinect1 4.90 mm (95 %: +-0.03)", "latency +42.4 ms (95 %: +-4.2)".
 std::string FindingText(const CheckFinding& finding);
 
 }  // namespace mocap::pipeline

@@ -1,7 +1,8 @@
 // The session check's accuracy over the scenarios of scenarios/accuracy/ (docs/validation.md "Accuracy
 // over scenarios"): seeds, a robot head and a hand-held camera, close and far, a hand in front, two
 // objects moving, a Kinect v2. Each scenario is recorded, labelled with the true calibration and with
-// four wrong ones, and checked as `mocaplabel validate` checks (each record, then the session-wide step); the figures are printed per scenario and per object and written to
+// four wrong ones, and checked as `mocaplabel validate` checks (each record, then the session-wide
+// step); the figures are printed per scenario and per object and written to
 // <build>/accuracy_sweep/<scenario>.md. The targets: correct labels >= 98 % accepted, SegICP success
 // >= 98 %, wrong labels >= 95 % flagged. A label wrong mostly in directions the depth does not
 // constrain (a table slid in its own plane: less than half the error's size left in the observable
