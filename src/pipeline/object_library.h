@@ -48,6 +48,9 @@ struct LibraryObject {
   double tof_deformation_m = 0;               ///< simulation only
   std::optional<BackFaceCulling> cull_back_faces;  ///< labeller override
   std::optional<double> diameter_m;           ///< BOP models_info diameter, when known
+  /// Reflective: a time-of-flight camera's depth of it is pushed back along the ray, so the validator
+  /// does not judge its range on such a camera (validate/label_check.h LeaveOutRange).
+  bool tof_range_biased = false;
 };
 
 struct ObjectLibrary {

@@ -74,6 +74,7 @@ void EmitObject(YAML::Emitter& out, const LibraryObject& o) {
     out << YAML::Key << "diameter_m" << YAML::Value;
     EmitNumber(out, *o.diameter_m);
   }
+  if (o.tof_range_biased) out << YAML::Key << "tof_range_biased" << YAML::Value << true;
   out << YAML::EndMap;
 }
 
@@ -107,7 +108,7 @@ std::vector<ValidationObject> ValidationObjectsOf(const ObjectLibrary& library) 
     std::vector<SymmetryAxis> symmetries;
     for (const ObjectSymmetry& s : o.symmetries)
       symmetries.push_back({s.axis, s.offset_m, s.type == ObjectSymmetry::Type::kContinuous ? 0.0 : s.angle_deg});
-    out.push_back({o.id, o.name, o.mesh_path, o.unit_scale_to_m, ChooseValidatorSymmetry(symmetries)});
+    out.push_back({o.id, o.name, o.mesh_path, o.unit_scale_to_m, ChooseValidatorSymmetry(symmetries), o.tof_range_biased});
   }
   return out;
 }
@@ -128,6 +129,7 @@ sim::SimObjects SimObjectsOf(const ObjectLibrary& library) {
     s.body = {o.mounts[0].body, o.markers->markers_m, o.markers->normal_body};
     s.T_body_mesh = o.mounts[0].T_body_mesh;
     s.reflectivity = o.reflectivity, s.tof_deformation_m = o.tof_deformation_m;
+    s.tof_range_biased = o.tof_range_biased;
     out.objects.push_back(s);
   }
   out.check(where);
@@ -150,6 +152,7 @@ ObjectLibrary LibraryOfSimObjects(const sim::SimObjects& objects, const fs::path
     o.mounts.push_back({s.body.name, s.T_body_mesh});
     o.markers = ObjectMarkers{s.body.markers_m, s.body.normal_body};
     o.reflectivity = s.reflectivity, o.tof_deformation_m = s.tof_deformation_m;
+    o.tof_range_biased = s.tof_range_biased;
     library.objects.push_back(o);
   }
   return library;

@@ -20,6 +20,8 @@ inline constexpr int kSessionFormatVersion = 1;
 struct CameraStreamInfo {
   std::string name;            ///< stream name, also its folder under cameras/ ("kinect1", "rgb")
   std::string model, serial;   ///< model: "kinect1", "kinect2", "tum", "bop", "sim", ...
+  /// A time-of-flight depth camera (the Kinect v2; the Kinect v1 projects structured light).
+  bool time_of_flight() const { return model == "kinect2"; }
   PinholeCamera color_camera;  ///< intrinsics of the colour stream
   PinholeCamera depth_camera;  ///< intrinsics of depth (equal to color_camera when registered)
   bool depth_registered_to_color = true;

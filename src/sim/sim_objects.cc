@@ -84,6 +84,7 @@ SimObjects DefaultSimObjects() {
   bottle.T_body_mesh = MountOnMesh({-0.010, 0.062, 0.165}, {0, 0.8, 0.6}, 20).inverse();
   bottle.reflectivity = 0.8;
   bottle.tof_deformation_m = 0.03;
+  bottle.tof_range_biased = true;  // the SegICP paper's shiny oil bottle, declared as a user would
 
   SimObject funnel = NamedObject(2, "funnel", "funnel", "funnel.ply");
   funnel.symmetries.push_back({Symmetry::Type::kContinuous, Eigen::Vector3d::UnitZ(), Eigen::Vector3d::Zero(), 0});

@@ -37,6 +37,9 @@ struct SimObject {
   Rigid3d T_body_mesh;       ///< maps mesh coordinates into the marker body frame
   double reflectivity = 0;   ///< 0 matte .. 1 mirror-like; drives the ToF deformation
   double tof_deformation_m = 0;  ///< largest extra ToF path (metres) at grazing incidence when reflective
+  /// What its objects.yaml declares for the validator (not read by the simulation): the object is known
+  /// to be reflective, as a user knows a shiny bottle (pipeline/object_library.h).
+  bool tof_range_biased = false;
   void check(const std::string& where) const;
 };
 

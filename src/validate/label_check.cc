@@ -231,6 +231,18 @@ void ApplySymmetry(const Rigid3d& T_camera_object_label, const SymmetryAxis& sym
   DecideVerdict(options.verdict, check);
 }
 
+void LeaveOutRange(const Rigid3d& T_camera_object_label, const ValidateOptions& options, LabelCheck* check) {
+  Observability& ob = check->observability;
+  if (!check->estimated || !ob.analysed) return;
+  const Rigid3d& T = check->T_camera_object_segicp;
+  Eigen::Matrix<double, 6, 1> along_ray;
+  along_ray << Eigen::Vector3d::Zero(), T.rotation().inverse() * (T * ob.center_object).normalized();
+  LeaveOutDirection(&ob, along_ray);
+  ScoreEstimate(T_camera_object_label, options, check);
+  DecideVerdict(options.verdict, check);
+  check->reason += "; range along the time-of-flight camera's ray not judged (tof_range_biased)";
+}
+
 LabelCheck CheckLabel(const PointCloud& scene_camera, const Rigid3d& T_camera_object_label, const CropSource& model,
                       const std::vector<ModelCrop>& view_crops, const ValidateOptions& options) {
   const PointCloud scene = VoxelDownsample(scene_camera, options.scene_voxel_m);

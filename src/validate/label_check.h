@@ -130,4 +130,11 @@ Rigid3d NearestSymmetricPose(const Rigid3d& T_camera_object, const Rigid3d& T_ca
 void ApplySymmetry(const Rigid3d& T_camera_object_label, const SymmetryAxis& symmetry, const ValidateOptions& options,
                    LabelCheck* check);
 
+/// A time-of-flight camera measures the range to a reflective surface too long (multipath adds path:
+/// Bhandari et al., "Resolving multipath interference in Kinect"; the SegICP paper's oil bottle on the
+/// Kinect v2), so for an object declared so (objects.yaml `tof_range_biased`) the estimate's translation
+/// along the camera's ray through the analysis centre is not judged; every other direction is. Errors
+/// and verdict are recomputed; the reason says so. No-op without an estimate or an analysis.
+void LeaveOutRange(const Rigid3d& T_camera_object_label, const ValidateOptions& options, LabelCheck* check);
+
 }  // namespace mocap

@@ -1,6 +1,7 @@
 #include "validate/observability.h"
 
 #include <Eigen/Eigenvalues>
+#include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -324,6 +325,37 @@ EstimatePrecision PrecisionOf(const Observability& o, const Eigen::Vector3d& poi
     rotation_var += var * w.squaredNorm();
   }
   return {1e3 * std::sqrt(position_var), DegFromRad(std::sqrt(rotation_var))};
+}
+
+void LeaveOutDirection(Observability* o, const Vector6d& u) {
+  if (!o->analysed || !(u.norm() > 0)) return;
+  const Matrix6d A = o->directions * o->information.asDiagonal() * o->directions.transpose();
+  std::vector<int> judged, unjudged;
+  for (int k = 0; k < 6; ++k) (o->judged[k] ? judged : unjudged).push_back(k);
+  Eigen::MatrixXd J(6, judged.size());
+  for (size_t i = 0; i < judged.size(); ++i) J.col(static_cast<Eigen::Index>(i)) = o->directions.col(judged[i]);
+  const Vector6d inside = J * (J.transpose() * u.normalized());
+  if (inside.norm() < 1e-6) return;  // u lies in the unjudged directions already
+  const Vector6d e = inside.normalized();
+  // The judged subspace without e, re-diagonalised in A (PrecisionOf reads information per direction).
+  const Eigen::Index m = J.cols() - 1;
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(J - e * (e.transpose() * J), Eigen::ComputeThinU);
+  const Eigen::MatrixXd Q = svd.matrixU().leftCols(m);
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(Q.transpose() * A * Q);
+  Observability out = *o;
+  int column = 0;
+  for (int k : unjudged) {
+    out.directions.col(column) = o->directions.col(k), out.information(column) = o->information(k);
+    out.judged[column] = false, out.probe_loss[column++] = o->probe_loss[k];
+  }
+  out.directions.col(column) = e, out.information(column) = e.dot(A * e);
+  out.judged[column] = false, out.probe_loss[column++] = -1;
+  for (Eigen::Index i = 0; i < m; ++i) {
+    out.directions.col(column) = Q * eig.eigenvectors().col(i), out.information(column) = eig.eigenvalues()(i);
+    out.judged[column] = true, out.probe_loss[column++] = -1;
+  }
+  SummariseObservability(&out);
+  *o = out;
 }
 
 void SummariseObservability(Observability* o) {

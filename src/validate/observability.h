@@ -113,6 +113,13 @@ bool HasProbedDirections(const Observability& o);
 /// directions were expressed in another object frame, as ApplySymmetry does).
 void SummariseObservability(Observability* o);
 
+/// Takes direction `u` (analysis coordinates: rotation scaled by radius_m, then translation) out of the
+/// judged ones: the judged subspace loses u's part in it, and what is left is re-expressed in the
+/// eigen-directions of the information restricted to it. For a measurement the depth makes but cannot be
+/// trusted in (a time-of-flight camera's range to a reflective surface: label_check.h LeaveOutRange).
+/// No change when `o` was not analysed or u is already unjudged.
+void LeaveOutDirection(Observability* o, const Eigen::Matrix<double, 6, 1>& u);
+
 /// The difference of `label` from `estimate` (both T_camera_object) restricted to the observable
 /// directions: translation of the analysis centre (mm) and rotation (deg).
 struct ObservedDifference {

@@ -27,6 +27,9 @@ struct ValidationObject {
   double unit_scale_to_m = 1.0;  ///< 0.001 for a mesh in millimetres
   /// A body of revolution: SegICP estimates are compared with the label modulo rotations about this axis.
   std::optional<SymmetryAxis> symmetry = std::nullopt;
+  /// A time-of-flight camera's depth of its surface is pushed back along the ray (objects.yaml
+  /// `tof_range_biased`: reflective): on such a camera its range is not judged (LeaveOutRange).
+  bool tof_range_biased = false;
 };
 
 /// What the pixel values of user masks (`--masks`) mean.

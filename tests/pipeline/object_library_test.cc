@@ -75,6 +75,7 @@ TEST(ValidationObjects, TheShippedLibraryDeclaresTheFunnelAndTableSymmetries) {
       ASSERT_TRUE(o.symmetry.has_value());
       EXPECT_EQ(o.symmetry->step_deg, 180.0);
     }
+    EXPECT_EQ(o.tof_range_biased, o.name == "oil_bottle") << o.name;
     symmetric += o.symmetry.has_value();
   }
   EXPECT_EQ(symmetric, 2);
@@ -147,6 +148,9 @@ TEST(ObjectLibrary, StrictReaderNamesFileLineAndKey) {
                          "  - {id: 1, name: c, mesh: a.ply, unit: m, tracker_body: d}\n").find("appears twice"), std::string::npos);
   EXPECT_NE(LibraryError("object:\n  - {id: 1}\n").find("did you mean 'objects'"), std::string::npos);
   EXPECT_NE(LibraryError("objects: [{id: 1, name: a, mesh: a.ply, unit: m}]\n").find("tracker_body"), std::string::npos);
+  const std::string shine = LibraryError("objects:\n  - {id: 1, name: a, mesh: a.ply, unit: m, tracker_body: b,\n     tof_range_biased: shiny}\n");
+  EXPECT_NE(shine.find("objects.yaml:3"), std::string::npos) << shine;
+  EXPECT_NE(shine.find("tof_range_biased"), std::string::npos) << shine;
 }
 
 TEST(ObjectLibrary, WrittenAndReadBackIsTheSameLibrary) {
@@ -165,6 +169,8 @@ TEST(ObjectLibrary, WrittenAndReadBackIsTheSameLibrary) {
   }
   EXPECT_EQ(read.objects[0].cull_back_faces, BackFaceCulling::kAlways);
   EXPECT_EQ(read.objects[1].diameter_m, 0.2);
+  EXPECT_TRUE(read.objects[0].tof_range_biased);  // the oil bottle declares its shine
+  EXPECT_FALSE(read.objects[1].tof_range_biased);
   fs::remove_all(dir);
 }
 

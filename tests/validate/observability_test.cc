@@ -171,13 +171,19 @@ TEST_F(TableTest, ALabelSlidInItsPlaneKeepsTheEstimateAtTheLabelWhereTheDepthCan
   EXPECT_EQ(c.verdict, Verdict::kAccept) << c.reason;
 }
 
+/// The cone of revolution 0.7 m in front of the camera, tilted, with 1 mm depth noise.
+struct ConeScene {
+  TriangleMesh cone = Cone();
+  SurfaceCropSource surface = SurfaceCropSource::FromMesh(cone, CropOptions{});
+  CachedCropSource model{surface, CropCacheOptions{}};
+  Rigid3d truth = Rigid3d::FromRvec({1.9, 0.2, 0.3}, {0.02, 0.01, 0.7});
+  std::mt19937 rng{5};
+  Frame frame = SplatFrame(cone, truth, rng);
+};
+
 TEST(Observability, ABodyOfRevolutionHidesOnlyItsSpin) {
-  const TriangleMesh cone = Cone();
-  const SurfaceCropSource surface = SurfaceCropSource::FromMesh(cone, CropOptions{});
-  const CachedCropSource model(surface, CropCacheOptions{});
-  const Rigid3d truth = Rigid3d::FromRvec({1.9, 0.2, 0.3}, {0.02, 0.01, 0.7});
-  std::mt19937 rng(5);
-  const Frame frame = SplatFrame(cone, truth, rng);
+  const ConeScene scene;
+  const auto& [cone, surface, model, truth, rng, frame] = scene;
   const LabelCheck c = CheckLabelInFrame(frame.depth, Kinect(), frame.mask, 4, truth, model, {}, ValidateOptions{});
   ASSERT_TRUE(c.observability.analysed) << c.reason;
   EXPECT_EQ(c.observability.observable, 5) << c.reason;
@@ -232,12 +238,18 @@ namespace {
 
 // PrecisionOf: sigma^2 = s^2 / (n lambda) per observable direction, unobservable ones left out, and a
 // rotation moves a point away from the analysis centre by its lever arm.
-TEST(Observability, PrecisionFollowsTheNormalEquations) {
+/// An analysis made by hand: 400 supported points, radius 0.1 m, eigen-directions the identity.
+Observability HandMadeAnalysis(double residual_rms_m) {
   Observability o;
   o.analysed = true;
   o.supported_points = 400;
-  o.residual_rms_m = 0.002;
+  o.residual_rms_m = residual_rms_m;
   o.radius_m = 0.1;
+  return o;
+}
+
+TEST(Observability, PrecisionFollowsTheNormalEquations) {
+  Observability o = HandMadeAnalysis(0.002);
   o.information << 0.5, 0.5, 0.5, 0.5, 0.5, 0.5;  // directions: identity, [L w; v]
   const EstimatePrecision at_centre = PrecisionOf(o, o.center_object, 1.0);
   // Translation: 3 directions of variance (2 mm)^2 / (400 * 0.5) each.
@@ -288,6 +300,63 @@ TEST(Observability, RejectsANonPositiveRefinementStop) {
   ObservabilityOptions options;
   options.refine_step_m = 0.0;
   EXPECT_THROW(options.check(), InputError);
+}
+
+// LeaveOutDirection: the left-out direction joins the unjudged ones, the judged ones stay orthonormal
+// and keep their information, and a difference along the left-out direction is no longer judged.
+TEST(Observability, ALeftOutDirectionIsNoLongerJudged) {
+  Observability o = HandMadeAnalysis(0.001);
+  o.information << 0.2, 0.3, 0.4, 0.5, 0.6, 0.7;
+  o.judged = {false, true, true, true, true, true};  // the first (a rotation about x) already unjudged
+  SummariseObservability(&o);
+  ASSERT_EQ(o.observable, 5);
+  const Eigen::Matrix<double, 6, 6> A = o.directions * o.information.asDiagonal() * o.directions.transpose();
+  Eigen::Matrix<double, 6, 1> u;
+  u << 0, 0, 0, 0.3, -0.4, 0.866;  // a translation, not along any eigen-direction
+  LeaveOutDirection(&o, u);
+  EXPECT_EQ(o.observable, 4);
+  EXPECT_TRUE((o.directions.transpose() * o.directions).isIdentity(1e-9));
+  for (int k = 0; k < 6; ++k) {
+    const Eigen::Matrix<double, 6, 1> d = o.directions.col(k);
+    if (o.judged[k]) {
+      EXPECT_NEAR(d.dot(u), 0.0, 1e-9);                      // the judged ones lie across u
+      EXPECT_NEAR(o.information(k), d.dot(A * d), 1e-9);     // with their information in A
+    }
+  }
+  // 5 mm along u is not judged; 5 mm across it still is.
+  const Eigen::Vector3d along = u.tail<3>().normalized(), across = along.cross(Eigen::Vector3d::UnitX()).normalized();
+  EXPECT_LT(ObservedPart(o, Rigid3d::FromRvec(Eigen::Vector3d::Zero(), 0.005 * along), Rigid3d()).position_mm, 1e-6);
+  EXPECT_NEAR(ObservedPart(o, Rigid3d::FromRvec(Eigen::Vector3d::Zero(), 0.005 * across), Rigid3d()).position_mm, 5.0, 1e-6);
+  // Leaving it out again, or leaving out an unjudged direction, changes nothing.
+  const Observability once = o;
+  LeaveOutDirection(&o, u);
+  EXPECT_EQ(o.observable, 4);
+  EXPECT_TRUE(o.directions.isApprox(once.directions));
+}
+
+// LeaveOutRange (objects.yaml tof_range_biased on a time-of-flight camera): a label off along the
+// camera's ray is no longer flagged, one off across the ray still is.
+TEST(Observability, ARangeBiasedObjectIsJudgedAcrossTheRayOnly) {
+  const ConeScene scene;
+  const auto& [cone, surface, model, truth, rng, frame] = scene;
+  const Eigen::Vector3d ray = truth.translation().normalized();
+  const Eigen::Vector3d across = ray.cross(Eigen::Vector3d::UnitY()).normalized();
+  const ValidateOptions options;
+  auto check = [&](const Eigen::Vector3d& offset_m) {
+    const Rigid3d label = Rigid3d::FromRvec(Eigen::Vector3d::Zero(), offset_m) * truth;
+    LabelCheck c = CheckLabelInFrame(frame.depth, Kinect(), frame.mask, 4, label, model, {}, options);
+    const Verdict before = c.verdict;
+    LeaveOutRange(label, options, &c);
+    return std::pair{before, c};
+  };
+  const auto [along_before, along] = check(0.008 * ray);
+  EXPECT_NE(along_before, Verdict::kAccept) << along.reason;
+  EXPECT_EQ(along.verdict, Verdict::kAccept) << along.reason;
+  EXPECT_EQ(along.reason_code, VerdictReason::kAgreesWhereObservable) << along.reason;
+  EXPECT_NE(along.reason.find("tof_range_biased"), std::string::npos) << along.reason;
+  const auto [across_before, off] = check(0.008 * across);
+  EXPECT_NE(across_before, Verdict::kAccept) << off.reason;
+  EXPECT_NE(off.verdict, Verdict::kAccept) << off.reason;
 }
 
 }  // namespace
