@@ -72,7 +72,8 @@ void ParseSimulationFields(const YamlMap& map, LibraryObject& o) {
 LibraryObject ParseObject(const YamlDoc& doc, const YAML::Node& node, const fs::path& base_dir, size_t index) {
   const YamlMap map(doc, node, Str("object ", index + 1),
                     {"id", "name", "class", "mesh", "unit", "symmetries", "tracker_body", "tracker_bodies", "T_body_mesh",
-                     "markers_m", "marker_normal", "reflectivity", "tof_deformation_m", "cull_back_faces", "diameter_m", "tof_range_biased"});
+                     "markers_m", "marker_normal", "reflectivity", "tof_deformation_m", "cull_back_faces", "diameter_m",
+                     "tof_range_biased"});
   LibraryObject o;
   o.id = map.Get<int>("id");
   if (o.id < 1 || o.id > 65535) map.Fail("id", Str(o.id, " is outside 1..65535"));

@@ -108,7 +108,8 @@ std::vector<ValidationObject> ValidationObjectsOf(const ObjectLibrary& library) 
     std::vector<SymmetryAxis> symmetries;
     for (const ObjectSymmetry& s : o.symmetries)
       symmetries.push_back({s.axis, s.offset_m, s.type == ObjectSymmetry::Type::kContinuous ? 0.0 : s.angle_deg});
-    out.push_back({o.id, o.name, o.mesh_path, o.unit_scale_to_m, ChooseValidatorSymmetry(symmetries), o.tof_range_biased});
+    out.push_back(
+        {o.id, o.name, o.mesh_path, o.unit_scale_to_m, ChooseValidatorSymmetry(symmetries), o.tof_range_biased});
   }
   return out;
 }

@@ -412,7 +412,8 @@ SessionValidation CheckSession(const SessionReader& session, const std::vector<V
     const auto it = std::find_if(objects.begin(), objects.end(), [&](const auto& o) { return o.id == r.object; });
     if (it == objects.end()) continue;
     if (it->symmetry) ApplySymmetry(r.T_camera_object_label, *it->symmetry, options.validate, &r.check);
-    if (const CameraStreamInfo* camera = session.manifest().FindCamera(r.camera); it->tof_range_biased && camera && camera->time_of_flight())
+    const CameraStreamInfo* camera = session.manifest().FindCamera(r.camera);
+    if (it->tof_range_biased && camera && camera->time_of_flight())
       LeaveOutRange(r.T_camera_object_label, options.validate, &r.check);
   }
   out.summary = Summarise(records, labels.total);
