@@ -117,7 +117,8 @@ void SummariseObservability(Observability* o);
 /// judged ones: the judged subspace loses u's part in it, and what is left is re-expressed in the
 /// eigen-directions of the information restricted to it. For a measurement the depth makes but cannot be
 /// trusted in (a time-of-flight camera's range to a reflective surface: label_check.h LeaveOutRange).
-/// No change when `o` was not analysed or u is already unjudged.
+/// No change when `o` was not analysed or u is already unjudged. The columns then hold the unjudged
+/// directions first (u's last), then the judged ones by ascending information.
 void LeaveOutDirection(Observability* o, const Eigen::Matrix<double, 6, 1>& u);
 
 /// The difference of `label` from `estimate` (both T_camera_object) restricted to the observable

@@ -236,8 +236,6 @@ TEST(Observability, NoDirectionIsHiddenWhenEverySideConstrainsIt) {
 namespace mocap {
 namespace {
 
-// PrecisionOf: sigma^2 = s^2 / (n lambda) per observable direction, unobservable ones left out, and a
-// rotation moves a point away from the analysis centre by its lever arm.
 /// An analysis made by hand: 400 supported points, radius 0.1 m, eigen-directions the identity.
 Observability HandMadeAnalysis(double residual_rms_m) {
   Observability o;
@@ -248,6 +246,8 @@ Observability HandMadeAnalysis(double residual_rms_m) {
   return o;
 }
 
+// PrecisionOf: sigma^2 = s^2 / (n lambda) per observable direction, unobservable ones left out, and a
+// rotation moves a point away from the analysis centre by its lever arm.
 TEST(Observability, PrecisionFollowsTheNormalEquations) {
   Observability o = HandMadeAnalysis(0.002);
   o.information << 0.5, 0.5, 0.5, 0.5, 0.5, 0.5;  // directions: identity, [L w; v]
