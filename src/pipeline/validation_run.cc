@@ -78,6 +78,8 @@ nlohmann::json ToJson(const RecordCheck& r) {
     j["precision_rotation_deg"] = c.precision.rotation_deg;
     j["accept_position_mm"] = c.accept_position_mm;
     j["accept_rotation_deg"] = c.accept_rotation_deg;
+    j["resolution_position_mm"] = c.resolution_position_mm;
+    j["resolution_rotation_deg"] = c.resolution_rotation_deg;
   }
   j["label_score"] = c.label_score;
   if (r.segmentation)
@@ -117,6 +119,9 @@ RecordCheck RecordCheckFromJson(const nlohmann::json& j, const std::string& wher
       c.precision = {f.Number("precision_position_mm"), f.Number("precision_rotation_deg")};
       c.accept_position_mm = f.Number("accept_position_mm"), c.accept_rotation_deg = f.Number("accept_rotation_deg");
     }
+    if (f.Has("resolution_position_mm"))  // written since the floor takes the depth's resolution
+      c.resolution_position_mm = f.Number("resolution_position_mm"),
+      c.resolution_rotation_deg = f.Number("resolution_rotation_deg");
   }
   c.label_score = f.Number("label_score");
   if (f.Has("segmentation")) {

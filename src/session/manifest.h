@@ -27,6 +27,10 @@ struct CameraStreamInfo {
   bool depth_registered_to_color = true;
   Rigid3d T_color_depth;       ///< depth optical frame into the colour optical frame
   double depth_unit_m = 0.001; ///< metres per unit of a 16-bit depth PNG (Kinect mm 0.001, TUM 1/5000)
+  /// The smallest change of depth the camera reports at range z_m, metres: one disparity step of the
+  /// Kinect v1, m/(f b) z^2 with m/(f b) = 2.85e-3 per metre (kinect.md section 8, after Khoshelham and
+  /// Elberink 2012), else one unit of the depth images.
+  double depth_step_m(double z_m) const { return model == "kinect1" ? 2.85e-3 * z_m * z_m : depth_unit_m; }
   std::string camera_body;     ///< tracker body carrying this camera ("" if none)
   Rigid3d T_body_camera;       ///< mount: colour optical frame into the body frame
   /// The stream holds a chosen subset of the recording's frames (a BOP test subset ships every few

@@ -135,11 +135,13 @@ void SetAcceptBounds(const VerdictOptions& o, LabelCheck* c) {
   if (!c->observability.analysed) return;
   const Eigen::Vector3d at = c->judged_where_observable() ? c->observability.center_object : Eigen::Vector3d::Zero();
   c->precision = PrecisionOf(c->observability, at, o.points_per_residual);
-  const auto bound = [&](double floor, double sigma, double widest) {
-    return std::min(widest, std::hypot(floor, o.accept_sigmas * sigma));
+  const auto bound = [&](double floor, double resolution, double sigma, double widest) {
+    return std::min(widest, std::hypot(floor, resolution, o.accept_sigmas * sigma));
   };
-  c->accept_position_mm = bound(1e3 * o.accept_floor_position_m, c->precision.position_mm, 1e3 * o.accept_position_m);
-  c->accept_rotation_deg = bound(o.accept_floor_rotation_deg, c->precision.rotation_deg, o.accept_rotation_deg);
+  c->accept_position_mm = bound(1e3 * o.accept_floor_position_m, c->resolution_position_mm, c->precision.position_mm,
+                                1e3 * o.accept_position_m);
+  c->accept_rotation_deg = bound(o.accept_floor_rotation_deg, c->resolution_rotation_deg, c->precision.rotation_deg,
+                                 o.accept_rotation_deg);
 }
 
 }  // namespace
@@ -241,6 +243,14 @@ void LeaveOutRange(const Rigid3d& T_camera_object_label, const ValidateOptions& 
   ScoreEstimate(T_camera_object_label, options, check);
   DecideVerdict(options.verdict, check);
   check->reason += "; range along the time-of-flight camera's ray not judged (tof_range_biased)";
+}
+
+void ApplyDepthResolution(const DepthResolution& resolution, const ValidateOptions& options, LabelCheck* check) {
+  if (!check->estimated || !check->observability.analysed) return;
+  const double half_pixel_m = 0.5 * resolution.pixel_m;
+  check->resolution_position_mm = 1e3 * std::hypot(half_pixel_m, 0.5 * resolution.step_m);
+  check->resolution_rotation_deg = DegFromRad(std::atan2(half_pixel_m, check->observability.radius_m));
+  DecideVerdict(options.verdict, check);
 }
 
 LabelCheck CheckLabel(const PointCloud& scene_camera, const Rigid3d& T_camera_object_label, const CropSource& model,

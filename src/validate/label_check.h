@@ -70,6 +70,10 @@ struct LabelCheck {
   EstimatePrecision precision;
   double accept_position_mm = 0.0;
   double accept_rotation_deg = 0.0;
+  /// What the depth image cannot resolve at the object, added to the accept floor (ApplyDepthResolution;
+  /// 0 until set), mm and deg.
+  double resolution_position_mm = 0.0;
+  double resolution_rotation_deg = 0.0;
   /// The verdict judged `observed`: the analysis ran and found some direction unobservable.
   bool judged_where_observable() const { return observability.analysed && observability.observable < 6; }
 };
@@ -136,5 +140,21 @@ void ApplySymmetry(const Rigid3d& T_camera_object_label, const SymmetryAxis& sym
 /// along the camera's ray through the analysis centre is not judged; every other direction is. Errors
 /// and verdict are recomputed; the reason says so. No-op without an estimate or an analysis.
 void LeaveOutRange(const Rigid3d& T_camera_object_label, const ValidateOptions& options, LabelCheck* check);
+
+/// The depth image's resolution at an object: the footprint of one depth pixel across the ray and the
+/// smallest change of depth the camera reports along it, metres.
+struct DepthResolution {
+  double pixel_m = 0.0;
+  double step_m = 0.0;
+};
+
+/// No fit to a depth image pins an object closer than its resolution: a surface that stays within one
+/// disparity step, an outline that falls within one pixel, reads the same wherever in it the object lies,
+/// and the rounding does not average out when the whole surface rounds the same way. A Kinect v1's step
+/// grows as the square of the range (kinect.md section 8: 2.85e-3 z^2, 14 mm at 2.2 m), so far away this,
+/// not the noise, limits the estimate. The record's accept floor therefore takes half a pixel and half a
+/// step in position (hypot), and half a pixel at the analysis's RMS radius in rotation, beside the label's
+/// own error; the verdict is decided again. No-op without an estimate or an analysis.
+void ApplyDepthResolution(const DepthResolution& resolution, const ValidateOptions& options, LabelCheck* check);
 
 }  // namespace mocap

@@ -232,6 +232,14 @@ void CheckFrame(const SessionReader& session, const LabelRunView& labels, const 
   }
 }
 
+/// The camera's depth resolution at the estimate's analysis centre: the depth camera's own pixel (a
+/// Kinect v2's depth has a third of its colour camera's pixels across) and its step at that range.
+DepthResolution ResolutionAt(const CameraStreamInfo& camera, const LabelCheck& c) {
+  const double z_m = (c.T_camera_object_segicp * c.observability.center_object).z();
+  const PinholeCamera& depth = camera.depth_camera.fx > 0 ? camera.depth_camera : camera.color_camera;
+  return {z_m / depth.fx, camera.depth_step_m(z_m)};
+}
+
 /// An accepted check whose difference lies well inside the accept bounds (tracking.confirm_fraction).
 bool ClearAgreement(const LabelCheck& c, const ValidateOptions& options) {
   if (c.verdict != Verdict::kAccept) return false;
@@ -411,8 +419,9 @@ SessionValidation CheckSession(const SessionReader& session, const std::vector<V
   for (RecordCheck& r : records) {
     const auto it = std::find_if(objects.begin(), objects.end(), [&](const auto& o) { return o.id == r.object; });
     if (it == objects.end()) continue;
-    if (it->symmetry) ApplySymmetry(r.T_camera_object_label, *it->symmetry, options.validate, &r.check);
     const CameraStreamInfo* camera = session.manifest().FindCamera(r.camera);
+    if (camera) ApplyDepthResolution(ResolutionAt(*camera, r.check), options.validate, &r.check);
+    if (it->symmetry) ApplySymmetry(r.T_camera_object_label, *it->symmetry, options.validate, &r.check);
     if (it->tof_range_biased && camera && camera->time_of_flight())
       LeaveOutRange(r.T_camera_object_label, options.validate, &r.check);
   }

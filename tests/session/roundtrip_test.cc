@@ -171,6 +171,22 @@ TEST(SessionRoundTrip, TumDepthUnitIsExact) {
   EXPECT_EQ(differing, 0);
 }
 
+// The depth step the validator's accept floor takes (kinect.md section 8): the Kinect v1's disparity
+// step grows as the square of the range; other cameras report one unit of their depth images.
+TEST(CameraStreamInfo, DepthStepFollowsTheSensor) {
+  CameraStreamInfo kinect1;
+  kinect1.model = "kinect1";
+  EXPECT_NEAR(kinect1.depth_step_m(1.0), 2.85e-3, 1e-12);
+  EXPECT_NEAR(kinect1.depth_step_m(2.2), 13.8e-3, 0.05e-3);
+  CameraStreamInfo kinect2;
+  kinect2.model = "kinect2";
+  EXPECT_DOUBLE_EQ(kinect2.depth_step_m(2.2), 0.001);
+  CameraStreamInfo tum;
+  tum.model = "tum";
+  tum.depth_unit_m = 1.0 / 5000;
+  EXPECT_DOUBLE_EQ(tum.depth_step_m(1.0), 0.0002);
+}
+
 TEST(SessionRoundTrip, ImportedFilesAreLinkedNotReencoded) {
   // Real TUM fr1/desk files registered as they are; a listed source that does not exist stays listed.
   namespace fs = std::filesystem;

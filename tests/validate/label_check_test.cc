@@ -7,15 +7,11 @@
 namespace mocap {
 namespace {
 
-
-PinholeCamera Kinect() { return PinholeCamera{640, 480, 525, 525, 319.5, 239.5, {}}; }
+using testing::Frame;
+using testing::Kinect;
 
 /// A depth frame and mask of the object at T_camera_object: dense surface samples splatted into the
 /// camera with a per-pixel nearest-depth test, plus Kinect-like noise.
-struct Frame {
-  DepthImage depth;
-  LabelImage mask;
-};
 Frame RenderFrame(const TriangleMesh& mesh, const Rigid3d& T_camera_object, std::mt19937& rng) {
   const PinholeCamera camera = Kinect();
   Frame f{DepthImage(640, 480, 0.0f), LabelImage(640, 480, 0)};
@@ -174,6 +170,37 @@ TEST(Verdict, AcceptBoundsFollowTheEstimatesPrecision) {
   EXPECT_DOUBLE_EQ(c.accept_position_mm, 5.0);
   EXPECT_GT(c.precision.position_mm, 1.0);
   EXPECT_EQ(c.verdict, Verdict::kAccept) << c.reason;
+}
+
+// Far from a Kinect v1 the disparity step, not the noise, limits what the depth can tell: 3.5 mm from a
+// precise estimate is a difference at 1 m and within half a step (6.9 mm) at 2.2 m. The floor says so
+// in the bounds and the record; a 1 cm difference stays beyond the widest bound at any range.
+TEST(Verdict, TheAcceptFloorTakesHalfTheDepthsResolution) {
+  const auto step_m = [](double z_m) { return 2.85e-3 * z_m * z_m; };  // CameraStreamInfo::depth_step_m
+  ValidateOptions o;
+  LabelCheck c;
+  c.estimated = c.segicp_reliable = true;
+  c.errors = {3.5, 0.3, 0.3};
+  c.observability.analysed = true;
+  c.observability.information = Eigen::Matrix<double, 6, 1>::Constant(0.3);
+  c.observability.radius_m = 0.1;
+  c.observability.supported_points = 3000;
+  c.observability.residual_rms_m = 0.001;
+  ApplyDepthResolution({1.0 / 580, step_m(1.0)}, o, &c);
+  EXPECT_NEAR(c.resolution_position_mm, std::hypot(0.86, 1.43), 0.01);
+  EXPECT_NEAR(c.resolution_rotation_deg, DegFromRad(std::atan2(0.5e-3 / 0.58, 0.1)), 1e-9);
+  EXPECT_NEAR(c.accept_position_mm, std::hypot(2.5, 0.86, 1.43), 0.1);
+  EXPECT_EQ(c.verdict, Verdict::kSuspect) << c.reason;
+  ApplyDepthResolution({2.2 / 580, step_m(2.2)}, o, &c);
+  EXPECT_DOUBLE_EQ(c.accept_position_mm, 5.0);  // capped by the widest bound
+  EXPECT_GT(c.accept_rotation_deg, 1.5 + 0.05);
+  EXPECT_EQ(c.verdict, Verdict::kAccept) << c.reason;
+  c.errors = {10.0, 0.3, 0.3};
+  DecideVerdict(o.verdict, &c);
+  EXPECT_EQ(c.verdict, Verdict::kSuspect) << c.reason;
+  LabelCheck none;  // no estimate: nothing to bound
+  ApplyDepthResolution({2.2 / 580, step_m(2.2)}, o, &none);
+  EXPECT_EQ(none.resolution_position_mm, 0.0);
 }
 
 TEST(PoseErrors, AreThePapersThree) {

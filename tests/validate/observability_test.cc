@@ -15,7 +15,8 @@
 namespace mocap {
 namespace {
 
-PinholeCamera Kinect() { return PinholeCamera{640, 480, 525, 525, 319.5, 239.5, {}}; }
+using testing::Frame;
+using testing::Kinect;
 
 /// A table top 2.4 x 1.8 m (top face at z = 0, 3 cm thick) as triangles.
 TriangleMesh Slab(double x_m, double y_m, double thickness_m) {
@@ -48,10 +49,6 @@ TriangleMesh Cone() {
 }
 
 /// Depth of the plane z = 0 of the table frame, every pixel (the table fills the image), 1 mm noise.
-struct Frame {
-  DepthImage depth;
-  LabelImage mask;
-};
 Frame TableFrame(const Rigid3d& T_camera_table, std::mt19937& rng) {
   const PinholeCamera camera = Kinect();
   Frame f{DepthImage(640, 480, 0.0f), LabelImage(640, 480, 4)};

@@ -2,12 +2,23 @@
 // Synthetic clouds with known geometry for the validator tests.
 #include <random>
 
+#include "core/camera.h"
 #include "core/check.h"
+#include "core/image.h"
 #include "core/rigid3.h"
 #include "validate/model_crop.h"
 #include "validate/point_cloud.h"
 
 namespace mocap::testing {
+
+/// The Kinect v1-like camera of the frame tests.
+inline PinholeCamera Kinect() { return PinholeCamera{640, 480, 525, 525, 319.5, 239.5, {}}; }
+
+/// A depth frame and the label mask drawn with it.
+struct Frame {
+  DepthImage depth;
+  LabelImage mask;
+};
 
 /// A closed box mesh (12 triangles) centred at the origin.
 inline TriangleMesh BoxMesh(const Eigen::Vector3d& size_m) {
