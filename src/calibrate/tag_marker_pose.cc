@@ -15,16 +15,16 @@ namespace {
 
 constexpr size_t kMaxMarkedTags = 6;
 
-struct Plane {
+struct MarkerPlane {
   Eigen::Vector3d centroid, normal, axis;  // axis: the direction of largest spread
 };
 
-Plane FitPlane(const std::vector<Eigen::Vector3d>& points) {
+MarkerPlane FitMarkerPlane(const std::vector<Eigen::Vector3d>& points) {
   const PrincipalAxes principal = PrincipalAxesOf(points);
   return {principal.centroid, principal.axes.col(0), principal.axes.col(2)};
 }
 
-std::optional<MarkedTag> TagAround(const std::vector<Eigen::Vector3d>& m, size_t i, const Plane& plane, double tol) {
+std::optional<MarkedTag> TagAround(const std::vector<Eigen::Vector3d>& m, size_t i, const MarkerPlane& plane, double tol) {
   std::vector<size_t> order(m.size());
   std::iota(order.begin(), order.end(), size_t{0});
   std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return (m[a] - m[i]).norm() < (m[b] - m[i]).norm(); });
@@ -96,7 +96,7 @@ std::vector<Hypothesis> AllHypotheses(const std::vector<TagDetection>& tags, con
   return all;
 }
 
-bool Admissible(const Hypothesis& h, const Plane& plane, const TagMarkerOptions& options) {
+bool Admissible(const Hypothesis& h, const MarkerPlane& plane, const TagMarkerOptions& options) {
   const Rigid3d T_world_camera = h.T_camera_world.inverse();
   // The image's y axis points down: seen upright, it has a negative component along the world's up.
   if (options.world_up.norm() > 0 && T_world_camera.rotation_matrix().col(1).dot(options.world_up) >= 0) return false;
@@ -158,7 +158,7 @@ TagMarkerPose ResultOf(const Hypothesis& h, const std::vector<TagDetection>& tag
 std::vector<MarkedTag> GroupTagMarkers(const std::vector<Eigen::Vector3d>& markers_world, double tolerance_m) {
   std::vector<MarkedTag> groups;
   if (markers_world.size() < 5) return groups;
-  const Plane plane = FitPlane(markers_world);
+  const MarkerPlane plane = FitMarkerPlane(markers_world);
   std::vector<bool> used(markers_world.size(), false);
   for (size_t i = 0; i < markers_world.size(); ++i) {
     const std::optional<MarkedTag> tag = TagAround(markers_world, i, plane, tolerance_m);
@@ -177,7 +177,7 @@ TagMarkerPose LocateCameraByTagMarkers(const std::vector<TagDetection>& tags,
   camera.check();
   const std::vector<MarkedTag> groups = CheckedGroups(tags, markers_world, options);
   const std::vector<Hypothesis> all = AllHypotheses(tags, groups, markers_world, camera);
-  const Plane plane = FitPlane(markers_world);
+  const MarkerPlane plane = FitMarkerPlane(markers_world);
   const auto chosen = std::find_if(all.begin(), all.end(), [&](const Hypothesis& h) { return Admissible(h, plane, options); });
   if (chosen == all.end())
     throw InputError("LocateCameraByTagMarkers", "no camera pose is upright and in front of the tags");

@@ -11,7 +11,7 @@
 namespace mocap {
 namespace {
 
-constexpr const char* kVertexShader = R"(#version 330 core
+constexpr const char* kColorVertexShader = R"(#version 330 core
 layout(location = 0) in vec3 position_mesh;
 layout(location = 1) in vec4 color;
 layout(location = 2) in vec2 uv;
@@ -31,7 +31,7 @@ void main() {
 // The face normal comes from the screen-space derivatives of the camera-space position (flat shading,
 // no normals needed in the mesh) and is turned towards the camera, since the winding is mirrored by the
 // image-row convention and scanned meshes are not consistently oriented.
-constexpr const char* kFragmentShader = R"(#version 330 core
+constexpr const char* kColorFragmentShader = R"(#version 330 core
 in vec3 position_camera;
 in vec4 vertex_color;
 in vec2 vertex_uv;
@@ -129,7 +129,7 @@ ColorRenderer::ColorRenderer(const RenderContext& context, const ColorRendererOp
   options.check();
   context.MakeCurrent();
   Gl& g = *gl_;
-  g.program = gl::LinkProgram(kVertexShader, kFragmentShader);
+  g.program = gl::LinkProgram(kColorVertexShader, kColorFragmentShader);
   g.clip_from_mesh = glGetUniformLocation(g.program, "clip_from_mesh");
   g.camera_from_mesh = glGetUniformLocation(g.program, "camera_from_mesh");
   g.has_texture = glGetUniformLocation(g.program, "has_texture");

@@ -15,9 +15,8 @@ using test::ExpSO3;
 using test::Kinect1Camera;
 using test::TestBoard;
 
-/// The truth: camera optical frame on its body (markers above the Kinect), board on its body.
-const Rigid3d kCambodyCamera(ExpSO3(Eigen::Vector3d(0.35, -0.20, 1.40)), Eigen::Vector3d(0.032, -0.081, 0.024));
-const Rigid3d kBoardbodyBoard(ExpSO3(Eigen::Vector3d(-0.10, 0.25, -1.57)), Eigen::Vector3d(-0.052, 0.247, -0.012));
+using test::kBoardbodyBoard;
+using test::kCambodyCamera;
 
 struct Noise {
   double corner_px = 0.2;

@@ -13,8 +13,8 @@ namespace {
 
 using test::ExpSO3;
 
-const Rigid3d kCambodyCamera(ExpSO3(Eigen::Vector3d(0.35, -0.20, 1.40)), Eigen::Vector3d(0.032, -0.081, 0.024));
-const Rigid3d kBoardbodyBoard(ExpSO3(Eigen::Vector3d(-0.10, 0.25, -1.57)), Eigen::Vector3d(-0.052, 0.247, -0.012));
+using test::kBoardbodyBoard;
+using test::kCambodyCamera;
 const Rigid3d kTrackerCambody(ExpSO3(Eigen::Vector3d(0.3, 0.1, -0.2)), Eigen::Vector3d(0.5, 0.2, 1.0));
 
 /// The board held in front of the static camera and waved: T_camera_board at physical time t (s),

@@ -49,4 +49,10 @@ cv::Mat RenderBoard(const BoardSpec& spec, const Eigen::Matrix3d& K, const Rigid
 /// Pixel of a board-frame point through the homography of a distortion-free camera K.
 Eigen::Vector2d ProjectPlanar(const Eigen::Matrix3d& K, const Rigid3d& T_camera_board, const Eigen::Vector3d& p_board);
 
+/// The truth of the mount tests: camera optical frame on its body (markers above the Kinect), board on
+/// its body.
+inline const Rigid3d kCambodyCamera(ExpSO3(Eigen::Vector3d(0.35, -0.20, 1.40)), Eigen::Vector3d(0.032, -0.081, 0.024));
+inline const Rigid3d kBoardbodyBoard(ExpSO3(Eigen::Vector3d(-0.10, 0.25, -1.57)),
+                                     Eigen::Vector3d(-0.052, 0.247, -0.012));
+
 }  // namespace mocap::test

@@ -23,14 +23,14 @@ using testing::Cli;
 using testing::Endpoint;
 using testing::Source;
 
-constexpr double kTrackerRateHz = 30;
-constexpr int kReplayFrames = 30;  // 1 s at 30 Hz
+constexpr double kReplayTrackerRateHz = 30;
+constexpr int kReplayedFrames = 30;  // 1 s at 30 Hz
 
 fs::path WriteRig(const fs::path& dir, int tracker_port, bool camera, const std::string& control) {
   const fs::path rig = dir / "rig.yaml";
   std::ofstream out(rig);
   out << "name: replay-e2e\ncapture:\n  sessions_dir: sessions\n" << control
-      << "  tracker: {name: ndi, tcp: \"127.0.0.1:" << tracker_port << "\", rate_hz: " << 4 * kTrackerRateHz << "}\n";
+      << "  tracker: {name: ndi, tcp: \"127.0.0.1:" << tracker_port << "\", rate_hz: " << 4 * kReplayTrackerRateHz << "}\n";
   if (camera) out << "  camera: {name: kinect1, index: 0}\n";
   return rig;
 }
@@ -38,7 +38,7 @@ fs::path WriteRig(const fs::path& dir, int tracker_port, bool camera, const std:
 std::vector<testing::RecordedFrame> WriteReplay(const fs::path& dir) {
   const std::vector<testing::TumFrame> tum = testing::LoadTumDesk();
   std::vector<testing::TumFrame> frames;
-  for (int i = 0; i < kReplayFrames; ++i) {
+  for (int i = 0; i < kReplayedFrames; ++i) {
     frames.push_back(tum[static_cast<size_t>(i) % tum.size()]);
     frames.back().depth_stamp_s = 2000.0 + i / 30.0;
   }
@@ -61,7 +61,7 @@ nlohmann::json WaitForReplayEnd(const fs::path& dir, int port) {
 TEST(CaptureReplayE2E, FakenectReplayPlaysIntoTheFirstSessionFromItsStart) {
   const fs::path dir = testing::FreshCaptureDir("replay_waits");
   const auto recorded = WriteReplay(dir / "replay");
-  Endpoint emulator = testing::StartEmulator(dir, 0, kTrackerRateHz);
+  Endpoint emulator = testing::StartEmulator(dir, 0, kReplayTrackerRateHz);
   Endpoint daemon = testing::StartDaemon(WriteRig(dir, emulator.port, true, ""), testing::FakenectEnv(dir / "replay"));
   std::this_thread::sleep_for(1500ms);  // longer than the whole recording
   const nlohmann::json idle = testing::Status(dir, daemon.port);
@@ -77,7 +77,7 @@ TEST(CaptureReplayE2E, FakenectReplayPlaysIntoTheFirstSessionFromItsStart) {
   ASSERT_EQ(Cli(dir, {"capture", "stop", "--port", port}).first, 0);
 
   const SessionReader reader = SessionReader::Open(dir / "sessions" / "S");
-  ASSERT_EQ(reader.frame_count("kinect1"), kReplayFrames) << daemon.process->Log();
+  ASSERT_EQ(reader.frame_count("kinect1"), kReplayedFrames) << daemon.process->Log();
   EXPECT_EQ(reader.frame("kinect1", 0).record.device_ticks, static_cast<int64_t>(recorded.front().ticks));
   // The manifest is written before the replay's first frame: the recording's camera all the same.
   const CameraStreamInfo* camera = reader.manifest().FindCamera("kinect1");
@@ -93,7 +93,7 @@ TEST(CaptureReplayE2E, FakenectReplayPlaysIntoTheFirstSessionFromItsStart) {
 // Before: `capture status --rig R` with `control.port: 0` in R connected to port 0 and failed.
 TEST(CaptureReplayE2E, RigWithControlPortZeroIsFoundByItsClients) {
   const fs::path dir = testing::FreshCaptureDir("port_zero");
-  Endpoint emulator = testing::StartEmulator(dir, 0, kTrackerRateHz);
+  Endpoint emulator = testing::StartEmulator(dir, 0, kReplayTrackerRateHz);
   const fs::path rig = WriteRig(dir, emulator.port, false, "  control: {bind: 127.0.0.1, port: 0}\n");
   Endpoint daemon = testing::StartDaemon(rig, {}, {});
   EXPECT_GT(daemon.port, 0);

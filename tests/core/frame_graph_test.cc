@@ -7,13 +7,13 @@
 namespace mocap {
 namespace {
 
-constexpr int64_t kMs = 1'000'000;
+constexpr int64_t kMillisecond_ns = 1'000'000;
 
 std::vector<PoseSample> Track(const Rigid3d& start, const Eigen::Vector3d& velocity_m_per_s) {
   std::vector<PoseSample> s;
   for (int i = 0; i <= 10; ++i) {
     const Rigid3d step = Rigid3d::FromRvec({0, 0, 0}, velocity_m_per_s * (i * 0.01));
-    s.push_back({i * 10 * kMs, PoseStatus::kValid, step * start});
+    s.push_back({i * 10 * kMillisecond_ns, PoseStatus::kValid, step * start});
   }
   return s;
 }
@@ -30,7 +30,7 @@ TEST(FrameGraph, ComposesTheLabellingChain) {
   graph.AddFixed("cambody", "camera", T_cambody_camera);
   graph.AddFixed("objbody", "mesh:bottle", T_objbody_mesh);
 
-  const int64_t t = 35 * kMs;
+  const int64_t t = 35 * kMillisecond_ns;
   const FrameLookup lookup = graph.Lookup("camera", "mesh:bottle", t);
   ASSERT_TRUE(lookup.ok()) << lookup.reason;
   const Rigid3d T_tracker_cambody = Rigid3d::FromRvec({0, 0, 0}, {0.1 * 0.035, 0, 0}) * T_tracker_cambody0;
@@ -39,7 +39,7 @@ TEST(FrameGraph, ComposesTheLabellingChain) {
   EXPECT_LT(TranslationDistanceM(*lookup.T_a_b, expected), 1e-12);
   EXPECT_LT(RotationDistanceDeg(*lookup.T_a_b, expected), 1e-9);
   EXPECT_EQ(lookup.chain, (std::vector<std::string>{"camera", "cambody", "tracker", "objbody", "mesh:bottle"}));
-  EXPECT_EQ(lookup.max_gap_ns, 10 * kMs);
+  EXPECT_EQ(lookup.max_gap_ns, 10 * kMillisecond_ns);
 
   const FrameLookup back = graph.Lookup("mesh:bottle", "camera", t);
   ASSERT_TRUE(back.ok());
@@ -54,7 +54,7 @@ TEST(FrameGraph, ReportsWhyALookupFails) {
   EXPECT_FALSE(none.ok());
   EXPECT_NE(none.reason.find("no chain"), std::string::npos);
   graph.AddStream("tracker", "cambody", Track(Rigid3d::Identity(), {0, 0, 0}));
-  const FrameLookup late = graph.Lookup("camera", "objbody", 500 * kMs);
+  const FrameLookup late = graph.Lookup("camera", "objbody", 500 * kMillisecond_ns);
   EXPECT_FALSE(late.ok());
   EXPECT_EQ(late.failure, InterpolationFailure::kAfterEnd);
   EXPECT_THROW(graph.AddFixed("camera", "cambody", Rigid3d::Identity()), InputError);
@@ -63,7 +63,7 @@ TEST(FrameGraph, ReportsWhyALookupFails) {
   auto samples = Track(Rigid3d::Identity(), {0, 0, 0});
   samples[3].status = PoseStatus::kOutOfVolume;
   lost.AddStream("tracker", "objbody", samples);
-  const FrameLookup out_of_volume = lost.Lookup("tracker", "objbody", 25 * kMs);
+  const FrameLookup out_of_volume = lost.Lookup("tracker", "objbody", 25 * kMillisecond_ns);
   EXPECT_EQ(out_of_volume.failure, InterpolationFailure::kNeighbourInvalid);
   EXPECT_EQ(out_of_volume.neighbour_status, PoseStatus::kOutOfVolume);
 }

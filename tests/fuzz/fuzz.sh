@@ -4,6 +4,7 @@
 #   tests/fuzz/fuzz.sh BUILD_DIR build [NAME...]            compile the fuzzers (all without NAME)
 #   tests/fuzz/fuzz.sh BUILD_DIR run NAME [libFuzzer flags]  write its seeds, run one fuzzer
 #   tests/fuzz/fuzz.sh BUILD_DIR all                         build, then run every fuzzer (make fuzz)
+#   tests/fuzz/fuzz.sh sources                               the instrumented sources, one per line
 #
 # BUILD_DIR is a configured, built (not MOCAP_SANITIZE) build tree: its tests/fuzz/ holds compile_flags.rsp,
 # link_libs.rsp and mocap_fuzz_seeds (tests/fuzz/CMakeLists.txt). Objects, fuzzers, seeds, corpora and
@@ -17,14 +18,6 @@
 #                     the seeds alone, so a brief ctest run does the same work every time
 set -euo pipefail
 
-source_dir=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
-build_dir=$(cd "$1" && pwd)
-command=$2
-shift 2
-fuzz_dir=$build_dir/tests/fuzz
-work=$fuzz_dir/work
-clang=${CLANGXX:-clang++}
-jobs=${FUZZ_JOBS:-2}
 all_fuzzers=(bop tum motive plus session png yaml mesh)
 
 # Instrumented sources of each fuzzer besides its harness tests/fuzz/fuzz_NAME.cc: the parsers the bytes
@@ -45,6 +38,20 @@ sources_of() {
     *) echo "fuzz.sh: no fuzzer '$1' (${all_fuzzers[*]})" >&2; return 1 ;;
   esac
 }
+
+if [[ ${1:-} == sources ]]; then  # every instrumented source once (tests/fuzz/CMakeLists.txt reads it)
+  for name in "${all_fuzzers[@]}"; do sources_of "$name"; done | tr ' ' '\n' | sort -u
+  exit 0
+fi
+
+source_dir=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
+build_dir=$(cd "$1" && pwd)
+command=$2
+shift 2
+fuzz_dir=$build_dir/tests/fuzz
+work=$fuzz_dir/work
+clang=${CLANGXX:-clang++}
+jobs=${FUZZ_JOBS:-2}
 
 # Longest input: the seeds are cut to about this size (make_seeds.cc).
 max_len_of() {

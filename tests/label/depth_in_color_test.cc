@@ -8,13 +8,15 @@
 #include <vector>
 
 #include "core/check.h"
+#include "picture.h"
 #include "session/depth_in_color.h"
 #include "label/object_labels.h"
 
 namespace mocap {
 namespace {
 
-using Picture = std::vector<std::string>;
+using test::Lines;
+using test::Picture;
 
 constexpr float kObject_m = 1.0f, kHand_m = 0.7f;
 constexpr int kWidth = 30, kHeight = 4;
@@ -42,12 +44,6 @@ Picture Draw(const DepthImage& d) {
       p[v][u] = z == 0.0f ? '_' : std::abs(z - kObject_m) < 1e-4f ? 'o' : std::abs(z - kHand_m) < 1e-4f ? 'h' : '?';
     }
   return p;
-}
-
-std::string Lines(const Picture& p) {
-  std::string s;
-  for (const std::string& row : p) s += row + "\n";
-  return s;
 }
 
 /// The object alone rendered in the colour camera: a wall at 1 m over the whole image.

@@ -7,12 +7,15 @@
 #include <vector>
 
 #include "core/check.h"
+#include "picture.h"
 #include "label/object_labels.h"
 
 namespace mocap {
 namespace {
 
-using Picture = std::vector<std::string>;
+using test::CameraOf;
+using test::Lines;
+using test::Picture;
 
 constexpr float kObject_m = 1.0f;
 
@@ -23,11 +26,6 @@ RenderOutput ObjectEverywhere(int w, int h) {
   layer.px_count_all = w * h;
   r.layers.push_back(std::move(layer));
   return r;
-}
-
-PinholeCamera CameraOf(const Picture& p) {
-  const int w = static_cast<int>(p[0].size()), h = static_cast<int>(p.size());
-  return {w, h, 525.0, 525.0, (w - 1) / 2.0, (h - 1) / 2.0, {}};
 }
 
 /// 'o' the object's surface measured, '_' no depth.
@@ -83,12 +81,6 @@ Picture Label(const Picture& depth, const Picture& colour, bool hole_colour, con
   for (int v = 0; v < camera.height; ++v)
     for (int u = 0; u < camera.width; ++u) p[v][u] = labels.masks.at(labels.masks.visible_measured, u, v) ? '#' : '.';
   return p;
-}
-
-std::string Lines(const Picture& p) {
-  std::string s;
-  for (const std::string& row : p) s += row + "\n";
-  return s;
 }
 
 // A hole in the middle of the object: its left part shows the object's yellow (a dark patch: no

@@ -7,23 +7,21 @@
 #include <vector>
 
 #include "core/check.h"
+#include "picture.h"
 #include "label/object_labels.h"
 
 namespace mocap {
 namespace {
 
-using Picture = std::vector<std::string>;
+using test::CameraOf;
+using test::Lines;
+using test::Picture;
 
 constexpr float kObjectA_m = 1.0f, kObjectB_m = 0.45f, kHand_m = 0.7f, kWall_m = 2.0f;
 
 /// Every row of a picture has the first row's width.
 void CheckWidths(const Picture& p) {
   for (const std::string& row : p) MOCAP_CHECK(row.size() == p[0].size(), "ragged picture row: ", row);
-}
-
-PinholeCamera CameraOf(const Picture& p) {
-  const int w = static_cast<int>(p[0].size()), h = static_cast<int>(p.size());
-  return {w, h, 525.0, 525.0, (w - 1) / 2.0, (h - 1) / 2.0, {}};
 }
 
 /// The render of `model`: 'A' object 1 at 1 m, 'B' object 2 at 0.45 m (in front of A where A's rectangle
@@ -66,12 +64,6 @@ Picture Draw(const ObjectLabels& labels, int w, int h) {
     for (int u = 0; u < w; ++u)
       if (labels.masks.at(labels.masks.visible_measured, u, v)) p[v][u] = '#';
   return p;
-}
-
-std::string Lines(const Picture& p) {
-  std::string s;
-  for (const std::string& row : p) s += row + "\n";
-  return s;
 }
 
 /// Object A's visible mask under `rule` for the model and measured depth drawn.

@@ -4,17 +4,14 @@
 
 #include <cmath>
 
+#include "test_camera.h"
 #include "render/color_renderer.h"
 #include "render/primitives.h"
 
 namespace mocap {
 namespace {
 
-PinholeCamera TestCamera(bool distorted) {
-  PinholeCamera cam{640, 480, 525.0, 525.0, 319.5, 239.5, {}};
-  if (distorted) cam.dist = {0.2624, -0.9531, -0.0054, 0.0026, 1.1633, 0, 0, 0};
-  return cam;
-}
+using test::TestCamera;
 
 Mesh Painted(Mesh mesh, const Eigen::Vector4f& rgba) {
   mesh.colors.assign(mesh.positions_m.size(), rgba);

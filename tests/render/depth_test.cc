@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "test_camera.h"
 #include "core/check.h"
 #include "render/primitives.h"
 #include "render/renderer.h"
@@ -11,11 +12,7 @@
 namespace mocap {
 namespace {
 
-PinholeCamera TestCamera(bool distorted) {
-  PinholeCamera cam{640, 480, 525.0, 525.0, 319.5, 239.5, {}};
-  if (distorted) cam.dist = {0.2624, -0.9531, -0.0054, 0.0026, 1.1633, 0, 0, 0};
-  return cam;
-}
+using test::TestCamera;
 
 void CheckPlaneRoundTrip(bool distorted) {
   const PinholeCamera cam = TestCamera(distorted);
