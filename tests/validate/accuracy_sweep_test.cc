@@ -1,6 +1,7 @@
 // The session check's accuracy over the scenarios of scenarios/accuracy/ (docs/validation.md "Accuracy
 // over scenarios"): seeds, a robot head and a hand-held camera, close and far, a hand in front, two
-// objects moving, a Kinect v2. Each scenario is recorded, labelled with the true calibration and with
+// objects moving, a Kinect v2; and the four scenes of scenarios/labels/ (the labeller's visible-mask
+// sweep), which the validator's settings were never chosen on. Each scenario is recorded, labelled with the true calibration and with
 // four wrong ones, and checked as `mocaplabel validate` checks (each record, then the session-wide
 // step); the figures are printed per scenario and per object and written to
 // <build>/accuracy_sweep/<scenario>.md. The targets: correct labels >= 98 % accepted, SegICP success
@@ -70,7 +71,9 @@ class AccuracySweep : public ::testing::TestWithParam<std::string> {
  protected:
   void SetUp() override {
     dir_ = testing::FreshTempDir("accuracy_" + GetParam());
-    const sim::Scenario scenario = cli::LoadScenarioYaml(SourceDir() / "scenarios/accuracy" / (GetParam() + ".yaml"));
+    fs::path file = SourceDir() / "scenarios/accuracy" / (GetParam() + ".yaml");
+    if (!fs::exists(file)) file = SourceDir() / "scenarios/labels" / (GetParam() + ".yaml");
+    const sim::Scenario scenario = cli::LoadScenarioYaml(file);
     sim::RecordOptions record;
     record.out_dir = dir_ / "session";
     record.threads = 2;
@@ -242,7 +245,8 @@ TEST_P(AccuracySweep, CorrectLabelsAcceptedAndWrongLabelsFlagged) {
 
 INSTANTIATE_TEST_SUITE_P(Scenarios, AccuracySweep,
                          ::testing::Values("carry", "hand_passes", "handheld", "close", "far", "hand_front",
-                                           "two_moving", "kinect2"),
+                                           "two_moving", "kinect2", "close_in_front", "close_range",
+                                           "dark_surfaces", "hand_close"),
                          [](const ::testing::TestParamInfo<std::string>& info) { return info.param; });
 
 }  // namespace
