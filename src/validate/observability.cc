@@ -50,6 +50,7 @@ void ObservabilityOptions::check() const {
   if (!(probe_m > 0)) throw InputError("ObservabilityOptions", "probe_m must be positive");
   if (!(probe_support_m > 0)) throw InputError("ObservabilityOptions", "probe_support_m must be positive");
   if (!(probe_min_loss > 0 && probe_min_loss < 1)) throw InputError("ObservabilityOptions", "probe_min_loss must lie in (0, 1)");
+  if (probe_min_lost_points < 0) throw InputError("ObservabilityOptions", "probe_min_lost_points must be >= 0");
   if (!(support_distance_m > 0)) throw InputError("ObservabilityOptions", "support_distance_m must be positive");
   if (!(normal_radius_m > 0)) throw InputError("ObservabilityOptions", "normal_radius_m must be positive");
   if (refine_iterations < 0) throw InputError("ObservabilityOptions", "refine_iterations must be >= 0");
@@ -191,6 +192,7 @@ double SupportedShare(const PointCloud& crop_model, const Rigid3d& T_camera_obje
 void Probe(const CropSource& model, const ModelCrop& crop, const Rigid3d& T_camera_object, const PointGrid& scene,
            const ObservabilityOptions& options, Observability* o) {
   const double base = SupportedShare(crop.points_model, T_camera_object, scene, options.probe_support_m, options.max_points);
+  const size_t stride = Stride(crop.points_model.size(), options.max_points);
   for (int k = 0; k < 6; ++k) {
     if (o->judged[k]) continue;
     double loss = 0.0;
@@ -200,7 +202,8 @@ void Probe(const CropSource& model, const ModelCrop& crop, const Rigid3d& T_came
                                                   options.max_points));
     }
     o->probe_loss[k] = loss;
-    o->judged[k] = loss >= options.probe_min_loss;
+    const double lost_points = loss * static_cast<double>((crop.points_model.size() + stride - 1) / stride);
+    o->judged[k] = loss >= options.probe_min_loss && lost_points >= options.probe_min_lost_points;
   }
 }
 

@@ -33,6 +33,9 @@ struct ObservabilityOptions {
   double probe_m = 0.01;
   double probe_support_m = 0.004;
   double probe_min_loss = 0.03;
+  /// ... and at least this many crop points: a share of a few dozen points is a handful of points near
+  /// the support gate, which the depth's noise alone moves across it.
+  int probe_min_lost_points = 10;
   /// A model point is supported when a scene point lies within this (the alignment's tau), metres.
   double support_distance_m = 0.01;
   /// Normals are estimated from the crop over this radius when the crop comes without them, metres.

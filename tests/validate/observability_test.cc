@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <random>
@@ -225,6 +226,40 @@ TEST(Observability, NoDirectionIsHiddenWhenEverySideConstrainsIt) {
   EXPECT_EQ(o.observable, 6);
   EXPECT_TRUE(o.unobservable.empty());
   EXPECT_GT(o.information.minCoeff(), 0.01);
+}
+
+// The probe's evidence is points: a square 10 cm patch seen through 25 crop points loses its 5 edge
+// points to a 1 cm slide (20 %, above probe_min_loss) and is not told apart from its slid self by them,
+// while 441 points lose 42. Slide and spin are judged only in the second; height and tilt in both.
+TEST(Observability, AProbeJudgesADirectionOnlyByEnoughLostPoints) {
+  PointCloud scene_points;
+  for (int i = 0; i <= 100; ++i)
+    for (int j = 0; j <= 100; ++j) scene_points.push_back({0.001 * i - 0.05, 0.001 * j - 0.05, 0.0});
+  const PointGrid scene(scene_points);
+  struct Fixed : CropSource {
+    ModelCrop crop;
+    ModelCrop Crop(const Rigid3d&) const override { return crop; }
+    const PointCloud& surface_model() const override { return crop.points_model; }
+  };
+  const auto patch = [](int per_side) {
+    Fixed source;
+    for (int i = 0; i < per_side; ++i)
+      for (int j = 0; j < per_side; ++j) {
+        const double step = 0.1 / (per_side - 1);
+        source.crop.points_model.push_back({step * i - 0.05, step * j - 0.05, 0.0});
+        source.crop.normals_model.push_back(Eigen::Vector3d::UnitZ());
+      }
+    return source;
+  };
+  const Fixed sparse = patch(5), dense = patch(21);
+  EXPECT_EQ(AnalyseObservability(dense, Rigid3d(), scene, ObservabilityOptions{}).observable, 6);
+  const Observability few = AnalyseObservability(sparse, Rigid3d(), scene, ObservabilityOptions{});
+  ASSERT_TRUE(few.analysed);
+  EXPECT_EQ(few.observable, 3);
+  EXPECT_GE(*std::max_element(few.probe_loss.begin(), few.probe_loss.end()), 0.03);
+  ObservabilityOptions by_share_alone;
+  by_share_alone.probe_min_lost_points = 0;
+  EXPECT_EQ(AnalyseObservability(sparse, Rigid3d(), scene, by_share_alone).observable, 6);
 }
 
 }  // namespace
