@@ -192,7 +192,9 @@ double SupportedShare(const PointCloud& crop_model, const Rigid3d& T_camera_obje
 void Probe(const CropSource& model, const ModelCrop& crop, const Rigid3d& T_camera_object, const PointGrid& scene,
            const ObservabilityOptions& options, Observability* o) {
   const double base = SupportedShare(crop.points_model, T_camera_object, scene, options.probe_support_m, options.max_points);
+  // The shares are over every stride-th crop point (SupportedShare): this many points.
   const size_t stride = Stride(crop.points_model.size(), options.max_points);
+  const double sampled = static_cast<double>((crop.points_model.size() + stride - 1) / stride);
   for (int k = 0; k < 6; ++k) {
     if (o->judged[k]) continue;
     double loss = 0.0;
@@ -202,8 +204,7 @@ void Probe(const CropSource& model, const ModelCrop& crop, const Rigid3d& T_came
                                                   options.max_points));
     }
     o->probe_loss[k] = loss;
-    const double lost_points = loss * static_cast<double>((crop.points_model.size() + stride - 1) / stride);
-    o->judged[k] = loss >= options.probe_min_loss && lost_points >= options.probe_min_lost_points;
+    o->judged[k] = loss >= options.probe_min_loss && loss * sampled >= options.probe_min_lost_points;
   }
 }
 

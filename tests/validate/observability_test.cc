@@ -199,6 +199,13 @@ TEST(Observability, ABodyOfRevolutionHidesOnlyItsSpin) {
   EXPECT_NE(tilted.verdict, Verdict::kAccept) << tilted.reason;
 }
 
+/// The same crop from every pose: unit tests of the analysis and the probe on a hand-made crop.
+struct FixedCropSource : CropSource {
+  ModelCrop crop;
+  ModelCrop Crop(const Rigid3d&) const override { return crop; }
+  const PointCloud& surface_model() const override { return crop.points_model; }
+};
+
 TEST(Observability, NoDirectionIsHiddenWhenEverySideConstrainsIt) {
   // Unit check of the analysis: a cube corner (three faces) constrains all six directions by normals.
   PointCloud points, normals;
@@ -215,11 +222,7 @@ TEST(Observability, NoDirectionIsHiddenWhenEverySideConstrainsIt) {
   crop.points_model = points;
   crop.normals_model = normals;
   const PointGrid scene(points);
-  struct Fixed : CropSource {
-    ModelCrop crop;
-    ModelCrop Crop(const Rigid3d&) const override { return crop; }
-    const PointCloud& surface_model() const override { return crop.points_model; }
-  } source;
+  FixedCropSource source;
   source.crop = crop;
   const Observability o = AnalyseObservability(source, Rigid3d(), scene, ObservabilityOptions{});
   ASSERT_TRUE(o.analysed);
@@ -236,13 +239,8 @@ TEST(Observability, AProbeJudgesADirectionOnlyByEnoughLostPoints) {
   for (int i = 0; i <= 100; ++i)
     for (int j = 0; j <= 100; ++j) scene_points.push_back({0.001 * i - 0.05, 0.001 * j - 0.05, 0.0});
   const PointGrid scene(scene_points);
-  struct Fixed : CropSource {
-    ModelCrop crop;
-    ModelCrop Crop(const Rigid3d&) const override { return crop; }
-    const PointCloud& surface_model() const override { return crop.points_model; }
-  };
   const auto patch = [](int per_side) {
-    Fixed source;
+    FixedCropSource source;
     for (int i = 0; i < per_side; ++i)
       for (int j = 0; j < per_side; ++j) {
         const double step = 0.1 / (per_side - 1);
@@ -251,7 +249,7 @@ TEST(Observability, AProbeJudgesADirectionOnlyByEnoughLostPoints) {
       }
     return source;
   };
-  const Fixed sparse = patch(5), dense = patch(21);
+  const FixedCropSource sparse = patch(5), dense = patch(21);
   EXPECT_EQ(AnalyseObservability(dense, Rigid3d(), scene, ObservabilityOptions{}).observable, 6);
   const Observability few = AnalyseObservability(sparse, Rigid3d(), scene, ObservabilityOptions{});
   ASSERT_TRUE(few.analysed);
