@@ -1,6 +1,7 @@
 #include "capture/daemon/control_server.h"
 
 #include <arpa/inet.h>
+#include <sys/socket.h>
 
 #include <optional>
 
@@ -104,6 +105,7 @@ ControlServer::ControlServer(CaptureDaemon& daemon, const ControlServerOptions& 
                        "cannot bind (in use? another daemon running?): choose another port");
     port_ = options_.port;
   }
+  WidenBacklog();
   thread_ = std::thread([this] { server_->listen_after_bind(); });
   // The socket is bound and listening already (connections wait in its backlog); this only makes
   // Stop() right after construction well defined.
@@ -111,6 +113,17 @@ ControlServer::ControlServer(CaptureDaemon& daemon, const ControlServerOptions& 
 }
 
 ControlServer::~ControlServer() { Stop(); }
+
+// Debian's cpp-httplib is a shared library built with a listen backlog of 5 (its
+// CPPHTTPLIB_LISTEN_BACKLOG cannot be changed from here). A page opening its event stream and image
+// connections while others do the same overflowed it: the kernel dropped the handshakes, clients
+// retried a second later, and some waited past their read timeout without a snapshot. listen() again
+// on the bound socket widens the queue in place (Linux's listen(2)); the kernel caps it at
+// net.core.somaxconn.
+void ControlServer::WidenBacklog() {
+  if (listen_fd_ < 0 || ::listen(listen_fd_, SOMAXCONN) != 0)
+    throw InputError(Str("control ", options_.bind, ":", port_), "cannot widen the listen backlog");
+}
 
 void ControlServer::Stop() {
   if (feed_) feed_->Stop();  // ends the event streams, which would hold their workers
@@ -206,6 +219,10 @@ void ControlServer::AddRoutes() {
   server_->new_task_queue = [threads = options_.worker_threads + options_.max_live_viewers] {
     return new httplib::ThreadPool(static_cast<size_t>(threads));
   };
+  server_->set_socket_options([this](socket_t sock) {
+    httplib::default_socket_options(sock);  // what httplib sets when no hook is given (address reuse)
+    listen_fd_ = static_cast<int>(sock);
+  });
   server_->set_keep_alive_timeout(options_.idle_timeout_s);
   server_->set_read_timeout(options_.read_timeout_s);
   server_->set_write_timeout(options_.read_timeout_s);  // a client that does not read its answer

@@ -78,12 +78,14 @@ class ControlServer {
 
  private:
   void AddRoutes();
+  void WidenBacklog();
   CaptureDaemon& daemon_;
   ControlServerOptions options_;
   std::unique_ptr<LiveFeed> feed_;
   std::unique_ptr<httplib::Server> server_;
   std::thread thread_;
   int port_ = 0;
+  int listen_fd_ = -1;  ///< the listening socket, seen through httplib's socket-options hook
 };
 
 }  // namespace mocap::capture

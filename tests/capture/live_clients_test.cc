@@ -155,11 +155,13 @@ TEST(LivePageClients, HundredViewersSlowReadersAndHangupsDoNotDisturbTheRecordin
   EXPECT_EQ(trk["dropped"], 0);
   EXPECT_EQ(cam["written"], cam["received"]);
   EXPECT_GE(cam["written"].get<int64_t>(), 25 * 10);  // the camera kept its 30 Hz
-  // The viewers' side, loosely (the host may be busy with other tests): every viewer kept getting
-  // snapshots (2 a second) and images, and the API kept answering.
-  EXPECT_GE(messages.front(), 5);
+  // The viewers' side: every viewer kept getting snapshots (2 a second) and images, and the API kept
+  // answering. A connection the listen backlog had no room for waits for the kernel's handshake retry
+  // (1 s, then 2 s, ...): the slowest viewer then fell far behind the median, some got none before
+  // their read timeout, and /status took 1 s.
+  EXPECT_GE(messages.front(), std::max(5, messages[messages.size() / 2] / 2));
   EXPECT_GE(images, kViewers * 2);
-  EXPECT_LT(worst_status_s, 2.0);
+  EXPECT_LT(worst_status_s, 0.5);
   EXPECT_GE(hangups, 20);
 }
 
