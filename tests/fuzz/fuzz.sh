@@ -5,6 +5,7 @@
 #   tests/fuzz/fuzz.sh BUILD_DIR run NAME [libFuzzer flags]  write its seeds, run one fuzzer
 #   tests/fuzz/fuzz.sh BUILD_DIR all                         build, then run every fuzzer (make fuzz)
 #   tests/fuzz/fuzz.sh sources                               the instrumented sources, one per line
+#   tests/fuzz/fuzz.sh names                                 the fuzzers' names, one per line
 #
 # BUILD_DIR is a configured, built (not MOCAP_SANITIZE) build tree: its tests/fuzz/ holds compile_flags.rsp,
 # link_libs.rsp and mocap_fuzz_seeds (tests/fuzz/CMakeLists.txt). Objects, fuzzers, seeds, corpora and
@@ -39,6 +40,10 @@ sources_of() {
   esac
 }
 
+if [[ ${1:-} == names ]]; then  # the one list of fuzzers (tests/fuzz/CMakeLists.txt reads it)
+  printf '%s\n' "${all_fuzzers[@]}"
+  exit 0
+fi
 if [[ ${1:-} == sources ]]; then  # every instrumented source once (tests/fuzz/CMakeLists.txt reads it)
   for name in "${all_fuzzers[@]}"; do sources_of "$name"; done | tr ' ' '\n' | sort -u
   exit 0
