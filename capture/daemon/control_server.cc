@@ -3,7 +3,9 @@
 #include <arpa/inet.h>
 #include <sys/socket.h>
 
+#include <cerrno>
 #include <optional>
+#include <system_error>
 
 #include "capture/daemon/json_depth.h"
 #include "capture/daemon/live_routes.h"
@@ -121,8 +123,10 @@ ControlServer::~ControlServer() { Stop(); }
 // on the bound socket widens the queue in place (Linux's listen(2)); the kernel caps it at
 // net.core.somaxconn.
 void ControlServer::WidenBacklog() {
-  if (listen_fd_ < 0 || ::listen(listen_fd_, SOMAXCONN) != 0)
-    throw InputError(Str("control ", options_.bind, ":", port_), "cannot widen the listen backlog");
+  if (listen_fd_ < 0) throw InputError(Str("control ", options_.bind, ":", port_), "no listening socket was seen");
+  if (::listen(listen_fd_, SOMAXCONN) != 0)
+    throw InputError(Str("control ", options_.bind, ":", port_),
+                     "cannot widen the listen backlog: " + std::generic_category().message(errno));
 }
 
 void ControlServer::Stop() {
