@@ -123,10 +123,10 @@ ControlServer::~ControlServer() { Stop(); }
 // on the bound socket widens the queue in place (Linux's listen(2)); the kernel caps it at
 // net.core.somaxconn.
 void ControlServer::WidenBacklog() {
-  if (listen_fd_ < 0) throw InputError(Str("control ", options_.bind, ":", port_), "no listening socket was seen");
+  const std::string where = Str("control ", options_.bind, ":", port_);
+  if (listen_fd_ < 0) throw InputError(where, "no listening socket was seen");
   if (::listen(listen_fd_, SOMAXCONN) != 0)
-    throw InputError(Str("control ", options_.bind, ":", port_),
-                     "cannot widen the listen backlog: " + std::generic_category().message(errno));
+    throw InputError(where, "cannot widen the listen backlog: " + std::generic_category().message(errno));
 }
 
 void ControlServer::Stop() {

@@ -85,6 +85,12 @@ struct NormalEquations {
 /// Every k-th index of n, k keeping at most max_points.
 size_t Stride(size_t n, int max_points) { return std::max<size_t>(1, (n + static_cast<size_t>(max_points) - 1) / static_cast<size_t>(max_points)); }
 
+/// How many of n indices that stride visits.
+size_t SampledCount(size_t n, int max_points) {
+  const size_t stride = Stride(n, max_points);
+  return (n + stride - 1) / stride;
+}
+
 /// Geman-McClure weights of point-to-plane residuals `r`, at `sigmas` times their robust spread (MAD),
 /// no narrower than `min_scale_m`; all ones for sigmas = 0 (least squares). A hand holding an object
 /// puts finger points a centimetre or two in front of its surface and inside its mask (the labeller's
@@ -182,19 +188,18 @@ Rigid3d Moved(const Rigid3d& T_camera_object, const Vector6d& step, const Eigen:
 double SupportedShare(const PointCloud& crop_model, const Rigid3d& T_camera_object, const PointGrid& scene, double gate_m,
                       int max_points) {
   if (crop_model.empty()) return 0.0;
-  int supported = 0, tried = 0;
-  for (size_t i = 0; i < crop_model.size(); i += Stride(crop_model.size(), max_points), ++tried)
+  int supported = 0;
+  for (size_t i = 0; i < crop_model.size(); i += Stride(crop_model.size(), max_points))
     supported += scene.AnyWithin(T_camera_object * crop_model[i], gate_m);
-  return static_cast<double>(supported) / tried;
+  return static_cast<double>(supported) / static_cast<double>(SampledCount(crop_model.size(), max_points));
 }
 
 /// Probes every direction not judged by its information: both ways, the larger loss counts.
 void Probe(const CropSource& model, const ModelCrop& crop, const Rigid3d& T_camera_object, const PointGrid& scene,
            const ObservabilityOptions& options, Observability* o) {
   const double base = SupportedShare(crop.points_model, T_camera_object, scene, options.probe_support_m, options.max_points);
-  // The shares are over every stride-th crop point (SupportedShare): this many points.
-  const size_t stride = Stride(crop.points_model.size(), options.max_points);
-  const double sampled = static_cast<double>((crop.points_model.size() + stride - 1) / stride);
+  // The shares are over this many crop points (SupportedShare's).
+  const double sampled = static_cast<double>(SampledCount(crop.points_model.size(), options.max_points));
   for (int k = 0; k < 6; ++k) {
     if (o->judged[k]) continue;
     double loss = 0.0;
