@@ -84,10 +84,21 @@ std::vector<Eigen::Vector3d> DepthToPointsMasked(const DepthImage& depth_m, cons
                                                  const LabelImage& mask, uint16_t label) {
   MOCAP_CHECK(mask.width == depth_m.width && mask.height == depth_m.height, "mask size differs from depth size");
   MOCAP_CHECK(label != 0, "label 0 is the background");
+  // Without distortion a pixel's ray is ((u - cx) / fx, (v - cy) / fy, 1), Ray's own arithmetic: worked out
+  // per column and per row rather than per pixel (the validator unprojects every record's mask).
+  const bool pinhole = !camera.has_distortion();
+  std::vector<double> x_of_u(pinhole ? static_cast<size_t>(depth_m.width) : 0);
+  for (size_t u = 0; u < x_of_u.size(); ++u) x_of_u[u] = (static_cast<double>(u) - camera.cx) / camera.fx;
   std::vector<Eigen::Vector3d> points;
-  for (int v = 0; v < depth_m.height; ++v)
-    for (int u = 0; u < depth_m.width; ++u)
-      if (mask.at(u, v) == label && depth_m.at(u, v) > 0.0f) points.push_back(camera.Unproject({u, v}, depth_m.at(u, v)));
+  for (int v = 0; v < depth_m.height; ++v) {
+    const double y = (static_cast<double>(v) - camera.cy) / camera.fy;
+    for (int u = 0; u < depth_m.width; ++u) {
+      const float z = depth_m.at(u, v);
+      if (mask.at(u, v) != label || !(z > 0.0f)) continue;
+      points.push_back(pinhole ? Eigen::Vector3d(x_of_u[static_cast<size_t>(u)], y, 1.0) * static_cast<double>(z)
+                               : camera.Unproject({u, v}, z));
+    }
+  }
   return points;
 }
 

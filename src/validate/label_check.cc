@@ -29,18 +29,19 @@ void ScoreEstimate(const Rigid3d& label, const ValidateOptions& options, LabelCh
 /// Directions the probe alone found observable (weak in the normals, seen by the outline) are refined
 /// in a second point-to-plane pass, with the robust kernel: the acquisition's point-to-point ICP leaves a
 /// near-body of revolution turned by its clutter (a hand holding a bottle turned it 2 deg), and the first
-/// pass moves only along strong directions.
-void PolishProbedDirections(const PointGrid& grid, const CropSource& model, const ValidateOptions& options,
+/// pass moves only along strong directions. Returns whether it moved the estimate (and scored it anew).
+bool PolishProbedDirections(const PointGrid& grid, const CropSource& model, const ValidateOptions& options,
                             LabelCheck* check) {
-  if (!HasProbedDirections(check->observability)) return;
+  if (!HasProbedDirections(check->observability)) return false;
   const ModelCrop crop = model.Crop(check->T_camera_object_segicp);
   const PlaneRefinement refined =
       RefinePointToPlane(crop, check->T_camera_object_segicp, grid, options.observability, 0.0, &check->observability);
-  if (refined.iterations == 0) return;
+  if (refined.iterations == 0) return false;
   // No score guard: the score counts clutter within tau as support (fingers on a held bottle), which the
   // robust fit rightly ignores, so a better pose can score a few hundredths lower.
   check->T_camera_object_segicp = refined.T_camera_object;
   check->segicp_score = ScoreAlignment(crop.points_model, refined.T_camera_object, grid, options.alignment).score;
+  return true;
 }
 
 /// Label score, errors, success and verdict once an estimate (or none) is known.
@@ -51,16 +52,15 @@ void Finish(const PointGrid& grid, const Rigid3d& label, const CropSource& model
     // The point-to-plane polish moves the estimate only where the depth constrains it, and says where.
     const ModelCrop crop = model.Crop(check->T_camera_object_segicp);
     const PlaneRefinement refined = RefinePointToPlane(crop, check->T_camera_object_segicp, grid, options.observability);
-    if (refined.iterations > 0) {
-      check->T_camera_object_segicp = refined.T_camera_object;
-      check->segicp_score = ScoreAlignment(crop.points_model, refined.T_camera_object, grid, options.alignment).score;
-    }
+    if (refined.iterations > 0) check->T_camera_object_segicp = refined.T_camera_object;
     // A converged refinement's last equations are the analysis at its result (within refine_step_m).
     check->observability =
         refined.converged
             ? ProbeObservability(model, crop, check->T_camera_object_segicp, grid, options.observability, refined.observability)
             : AnalyseObservability(model, check->T_camera_object_segicp, grid, options.observability, &crop);
-    PolishProbedDirections(grid, model, options, check);
+    // The refined pose is scored only when the polish leaves it: the polish scores its own result.
+    if (!PolishProbedDirections(grid, model, options, check) && refined.iterations > 0)
+      check->segicp_score = ScoreAlignment(crop.points_model, refined.T_camera_object, grid, options.alignment).score;
     ScoreEstimate(label, options, check);
   }
   DecideVerdict(options.verdict, check);

@@ -349,7 +349,10 @@ void CheckTracks(const SessionReader& session, const LabelRunView& labels, const
     if (n == 0 || r.index != records[group[n - 1]].index)
       in = frames.Get(r, [&] { return LoadFrame(session, labels, r.camera, r.index, options); });
     const ObjectModel& model = models.at(r.object);
-    Track& track = tracks.try_emplace(r.instance, Track{ObjectTracker(*model.crops, model.thinned_options)}).first->second;
+    // Built on a track's first record only: a tracker's construction bounds the whole surface model.
+    auto it = tracks.find(r.instance);
+    if (it == tracks.end()) it = tracks.emplace(r.instance, Track{ObjectTracker(*model.crops, model.thinned_options)}).first;
+    Track& track = it->second;
     CheckTracked(*in, session, model, options, track.tracker, track.last_stamp_ns, r);
     Score(*in, options, r);
     frames.Done(r);

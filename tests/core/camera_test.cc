@@ -83,6 +83,28 @@ TEST(PinholeCamera, DepthToPointsSkipsInvalidPixels) {
   EXPECT_TRUE(DepthToPointsMasked(depth, cam, mask, 8).empty());
 }
 
+// The masked back-projection computes a pinhole camera's rays per row and column; it must give exactly
+// what Unproject gives pixel by pixel, with and without distortion.
+TEST(PinholeCamera, DepthToPointsMaskedMatchesUnprojectExactly) {
+  for (const bool distorted : {false, true}) {
+    const PinholeCamera cam = Kinect1Like(distorted);
+    DepthImage depth(cam.width, cam.height, 0.0f);
+    LabelImage mask(cam.width, cam.height, 0);
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> z(0.4f, 4.0f);
+    std::vector<Eigen::Vector3d> expected;
+    for (int v = 0; v < cam.height; ++v)
+      for (int u = 0; u < cam.width; ++u) {
+        depth.at(u, v) = (u + v) % 5 == 0 ? 0.0f : z(rng);
+        mask.at(u, v) = (u * 7 + v * 3) % 4 == 0 ? 2 : 1;
+        if (mask.at(u, v) == 2 && depth.at(u, v) > 0) expected.push_back(cam.Unproject({u, v}, depth.at(u, v)));
+      }
+    const std::vector<Eigen::Vector3d> points = DepthToPointsMasked(depth, cam, mask, 2);
+    ASSERT_EQ(points.size(), expected.size());
+    for (size_t i = 0; i < points.size(); ++i) ASSERT_EQ(points[i], expected[i]) << "point " << i << " distorted " << distorted;
+  }
+}
+
 TEST(PinholeCamera, CheckRejectsNonsense) {
   PinholeCamera cam;
   EXPECT_THROW(cam.check(), InputError);

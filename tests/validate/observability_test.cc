@@ -10,6 +10,7 @@
 #include <numbers>
 #include <random>
 
+#include "synthetic.h"
 #include "validate/crop_cache.h"
 #include "validate/label_check.h"
 
