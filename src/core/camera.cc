@@ -51,7 +51,9 @@ Eigen::Vector2d PinholeCamera::Undistort(const Eigen::Vector2d& xy_distorted) co
 
 std::optional<Eigen::Vector2d> PinholeCamera::Project(const Eigen::Vector3d& point_camera) const {
   if (point_camera.z() <= 0) return std::nullopt;
-  const Eigen::Vector2d d = Distort(point_camera.head<2>() / point_camera.z());
+  const Eigen::Vector2d xy = point_camera.head<2>() / point_camera.z();
+  // Without coefficients Distort is the identity (radial term 1, tangential 0): skipped, as Undistort is.
+  const Eigen::Vector2d d = has_distortion() ? Distort(xy) : xy;
   return Eigen::Vector2d(fx * d.x() + cx, fy * d.y() + cy);
 }
 

@@ -6,6 +6,13 @@
 
 namespace mocap {
 
+int NearestPixel(double x) {
+  if (!(std::abs(x) < 1e9)) return -1;
+  const int whole = static_cast<int>(x);  // toward zero
+  const double rest = x - whole;           // exact
+  return whole + (rest >= 0.5) - (rest <= -0.5);
+}
+
 VisibleInFrameCropSource::VisibleInFrameCropSource(const CropSource& base, const PinholeCamera& camera,
                                                    const DepthImage& depth_m, const LabelImage& mask,
                                                    uint16_t label_id, double occluder_margin_m)
@@ -31,7 +38,7 @@ ModelCrop VisibleInFrameCropSource::Visible(const Rigid3d& T_camera_model, Model
     const Eigen::Vector3d p_camera = T_camera_model * p_model;
     const auto pixel = camera_.Project(p_camera);
     if (!pixel) continue;
-    const int u = static_cast<int>(std::lround(pixel->x())), v = static_cast<int>(std::lround(pixel->y()));
+    const int u = NearestPixel(pixel->x()), v = NearestPixel(pixel->y());
     if (!depth_m_.contains(u, v)) continue;  // outside the image: the frame cannot see it
     const float measured_m = depth_m_.at(u, v);
     const uint16_t owner = mask_.at(u, v);

@@ -11,6 +11,11 @@
 
 namespace mocap {
 
+/// The pixel index nearest to coordinate x, halves away from zero: std::lround without the libm call,
+/// which x86-64 without SSE4.1 does not inline and a crop makes per point. |x| >= 1e9 (a point grazing
+/// the camera plane) gives -1, which no image contains.
+int NearestPixel(double x);
+
 class VisibleInFrameCropSource : public CropSource {
  public:
   /// `base`, `camera`, `depth_m` and `mask` must outlive this source; `T_camera_model` of each crop is in

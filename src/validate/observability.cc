@@ -54,7 +54,8 @@ void ObservabilityOptions::check() const {
   if (!(support_distance_m > 0)) throw InputError("ObservabilityOptions", "support_distance_m must be positive");
   if (!(normal_radius_m > 0)) throw InputError("ObservabilityOptions", "normal_radius_m must be positive");
   if (refine_iterations < 0) throw InputError("ObservabilityOptions", "refine_iterations must be >= 0");
-  if (!(refine_step_m > 0)) throw InputError("ObservabilityOptions", "refine_step_m must be positive");
+  if (!(refine_step_m > 0) || !(polish_step_m > 0))
+    throw InputError("ObservabilityOptions", "refine_step_m and polish_step_m must be positive");
   if (max_points < 100) throw InputError("ObservabilityOptions", "max_points must be >= 100");
   if (!(robust_sigmas >= 0 && robust_sigmas <= 100)) throw InputError("ObservabilityOptions", "robust_sigmas must lie in [0, 100]");
 }
@@ -303,7 +304,8 @@ PlaneRefinement RefinePointToPlane(const ModelCrop& crop, const Rigid3d& T_camer
     step += weak_step;
     out.T_camera_object = Moved(out.T_camera_object, step, e.center, e.radius_m);
     out.iterations = iteration + 1;
-    out.converged = step.tail<3>().norm() < options.refine_step_m && step.head<3>().norm() < options.refine_step_m;
+    const double stop_m = probed_move ? options.polish_step_m : options.refine_step_m;
+    out.converged = step.tail<3>().norm() < stop_m && step.head<3>().norm() < stop_m;
     if (out.converged) break;
   }
   return out;

@@ -49,6 +49,10 @@ struct ObservabilityOptions {
   /// (arc at the crop's radius), metres: a hundredth of the depth's noise. Much less keeps the robust
   /// fit reweighting for all its iterations after it has converged.
   double refine_step_m = 1e-5;
+  /// The same stop for the polish along probed directions (RefinePointToPlane given `probed`), metres.
+  /// Those directions are known to millimetres, and the robust kernel's reweighting keeps moving them by
+  /// tens of micrometres a step: at refine_step_m a fifth of the demo's polishes ran all their steps.
+  double polish_step_m = 1e-4;
   /// Residuals are weighted by a Geman-McClure kernel at this many robust standard deviations (MAD) of
   /// the residuals, so points of something else on the object's surface (fingers holding it) do not
   /// pull the estimate; 0: plain least squares.

@@ -5,8 +5,10 @@
 #include <cmath>
 #include <map>
 #include <optional>
+#include <random>
 
 #include "validate/acquisition.h"
+#include "validate/frame_visibility.h"
 #include "synthetic.h"
 
 namespace mocap {
@@ -56,6 +58,23 @@ TEST(ModelCrop, DenseAndSparseZBuffersMatchAPlainPerPixelMap) {
     ASSERT_GT(crop.size(), 100u);
     EXPECT_EQ(crop, ReferenceCrop(source.surface_model(), T_camera_model, CropOptions{}.pixel_m));
   }
+}
+
+// The crops' pixel rounding stands in for std::lround: the same pixel for every coordinate an image can
+// hold, halves (away from zero) and their neighbouring doubles included.
+TEST(ModelCrop, NearestPixelRoundsAsLround) {
+  std::vector<double> xs = {0.0, -0.0, 0.5, -0.5, 1.5, -1.5, 639.5, -0.49999999999999994, 0.49999999999999994};
+  for (int k = -1000; k <= 1000; ++k) {
+    const double half = k + 0.5;
+    xs.insert(xs.end(), {half, std::nextafter(half, 1e9), std::nextafter(half, -1e9), static_cast<double>(k)});
+  }
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> coordinate(-2000.0, 2000.0);
+  for (int i = 0; i < 100000; ++i) xs.push_back(coordinate(rng));
+  for (const double x : xs) ASSERT_EQ(NearestPixel(x), static_cast<int>(std::lround(x))) << x;
+  EXPECT_EQ(NearestPixel(3e9), -1);
+  EXPECT_EQ(NearestPixel(-1e12), -1);
+  EXPECT_EQ(NearestPixel(std::nan("")), -1);
 }
 
 TEST(ModelCrop, MeshCheckRejectsBadIndices) {

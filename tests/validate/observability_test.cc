@@ -331,6 +331,11 @@ TEST(Observability, RejectsANonPositiveRefinementStop) {
   ObservabilityOptions options;
   options.refine_step_m = 0.0;
   EXPECT_THROW(options.check(), InputError);
+  options = ObservabilityOptions{};
+  options.polish_step_m = -1e-4;
+  EXPECT_THROW(options.check(), InputError);
+  options.polish_step_m = std::nan("");
+  EXPECT_THROW(options.check(), InputError);
 }
 
 // LeaveOutDirection: the left-out direction joins the unjudged ones, the judged ones stay orthonormal
