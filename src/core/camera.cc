@@ -24,6 +24,7 @@ Eigen::Matrix3d PinholeCamera::K() const {
 }
 
 Eigen::Vector2d PinholeCamera::Distort(const Eigen::Vector2d& xy) const {
+  if (!has_distortion()) return xy;  // the model below is then the identity (radial term 1, tangential 0)
   // OpenCV's model (calib3d "Detailed description"): radial rational term and tangential p1, p2.
   const auto& [k1, k2, p1, p2, k3, k4, k5, k6] = dist;
   const double x = xy.x(), y = xy.y();
@@ -51,9 +52,7 @@ Eigen::Vector2d PinholeCamera::Undistort(const Eigen::Vector2d& xy_distorted) co
 
 std::optional<Eigen::Vector2d> PinholeCamera::Project(const Eigen::Vector3d& point_camera) const {
   if (point_camera.z() <= 0) return std::nullopt;
-  const Eigen::Vector2d xy = point_camera.head<2>() / point_camera.z();
-  // Without coefficients Distort is the identity (radial term 1, tangential 0): skipped, as Undistort is.
-  const Eigen::Vector2d d = has_distortion() ? Distort(xy) : xy;
+  const Eigen::Vector2d d = Distort(point_camera.head<2>() / point_camera.z());
   return Eigen::Vector2d(fx * d.x() + cx, fy * d.y() + cy);
 }
 
@@ -64,10 +63,38 @@ Eigen::Vector3d PinholeCamera::Ray(const Eigen::Vector2d& pixel) const {
 
 Eigen::Vector3d PinholeCamera::Unproject(const Eigen::Vector2d& pixel, double z_m) const { return Ray(pixel) * z_m; }
 
+namespace {
+
+/// Back-projection of an image's pixels. Without distortion a pixel's ray is ((u - cx) / fx, (v - cy) / fy,
+/// 1), Ray's own arithmetic, worked out once per column and per row rather than per pixel (the validator
+/// back-projects every record's mask); with distortion each pixel goes through Unproject.
+class PixelRays {
+ public:
+  /// For the pixels of an image `width` x `height`.
+  PixelRays(const PinholeCamera& camera, int width, int height) : camera_(camera), pinhole_(!camera.has_distortion()) {
+    if (!pinhole_) return;
+    for (int u = 0; u < width; ++u) x_of_u_.push_back((static_cast<double>(u) - camera.cx) / camera.fx);
+    for (int v = 0; v < height; ++v) y_of_v_.push_back((static_cast<double>(v) - camera.cy) / camera.fy);
+  }
+  /// Unproject({u, v}, z_m); (u, v) inside that image.
+  Eigen::Vector3d Point(int u, int v, float z_m) const {
+    if (!pinhole_) return camera_.Unproject({u, v}, z_m);
+    return Eigen::Vector3d(x_of_u_[static_cast<size_t>(u)], y_of_v_[static_cast<size_t>(v)], 1.0) * static_cast<double>(z_m);
+  }
+
+ private:
+  const PinholeCamera& camera_;
+  bool pinhole_;
+  std::vector<double> x_of_u_, y_of_v_;
+};
+
+}  // namespace
+
 std::vector<Eigen::Vector3d> DepthToPoints(const DepthImage& depth_m, const PinholeCamera& camera,
                                            std::vector<Eigen::Vector2i>* pixels) {
   MOCAP_CHECK(depth_m.width == camera.width && depth_m.height == camera.height, "depth ", depth_m.width, "x",
               depth_m.height, " does not match camera ", camera.width, "x", camera.height);
+  const PixelRays rays(camera, depth_m.width, depth_m.height);
   std::vector<Eigen::Vector3d> points;
   points.reserve(depth_m.data.size() / 2);
   if (pixels) pixels->clear();
@@ -75,7 +102,7 @@ std::vector<Eigen::Vector3d> DepthToPoints(const DepthImage& depth_m, const Pinh
     for (int u = 0; u < depth_m.width; ++u) {
       const float z = depth_m.at(u, v);
       if (!(z > 0.0f)) continue;
-      points.push_back(camera.Unproject({u, v}, z));
+      points.push_back(rays.Point(u, v, z));
       if (pixels) pixels->emplace_back(u, v);
     }
   }
@@ -86,21 +113,13 @@ std::vector<Eigen::Vector3d> DepthToPointsMasked(const DepthImage& depth_m, cons
                                                  const LabelImage& mask, uint16_t label) {
   MOCAP_CHECK(mask.width == depth_m.width && mask.height == depth_m.height, "mask size differs from depth size");
   MOCAP_CHECK(label != 0, "label 0 is the background");
-  // Without distortion a pixel's ray is ((u - cx) / fx, (v - cy) / fy, 1), Ray's own arithmetic: worked out
-  // per column and per row rather than per pixel (the validator unprojects every record's mask).
-  const bool pinhole = !camera.has_distortion();
-  std::vector<double> x_of_u(pinhole ? static_cast<size_t>(depth_m.width) : 0);
-  for (size_t u = 0; u < x_of_u.size(); ++u) x_of_u[u] = (static_cast<double>(u) - camera.cx) / camera.fx;
+  const PixelRays rays(camera, depth_m.width, depth_m.height);
   std::vector<Eigen::Vector3d> points;
-  for (int v = 0; v < depth_m.height; ++v) {
-    const double y = (static_cast<double>(v) - camera.cy) / camera.fy;
+  for (int v = 0; v < depth_m.height; ++v)
     for (int u = 0; u < depth_m.width; ++u) {
       const float z = depth_m.at(u, v);
-      if (mask.at(u, v) != label || !(z > 0.0f)) continue;
-      points.push_back(pinhole ? Eigen::Vector3d(x_of_u[static_cast<size_t>(u)], y, 1.0) * static_cast<double>(z)
-                               : camera.Unproject({u, v}, z));
+      if (mask.at(u, v) == label && z > 0.0f) points.push_back(rays.Point(u, v, z));
     }
-  }
   return points;
 }
 

@@ -83,8 +83,8 @@ TEST(PinholeCamera, DepthToPointsSkipsInvalidPixels) {
   EXPECT_TRUE(DepthToPointsMasked(depth, cam, mask, 8).empty());
 }
 
-// The masked back-projection computes a pinhole camera's rays per row and column; it must give exactly
-// what Unproject gives pixel by pixel, with and without distortion.
+// The back-projections compute a pinhole camera's rays per row and column; they must give exactly what
+// Unproject gives pixel by pixel, with and without distortion.
 TEST(PinholeCamera, DepthToPointsMaskedMatchesUnprojectExactly) {
   for (const bool distorted : {false, true}) {
     const PinholeCamera cam = Kinect1Like(distorted);
@@ -102,6 +102,12 @@ TEST(PinholeCamera, DepthToPointsMaskedMatchesUnprojectExactly) {
     const std::vector<Eigen::Vector3d> points = DepthToPointsMasked(depth, cam, mask, 2);
     ASSERT_EQ(points.size(), expected.size());
     for (size_t i = 0; i < points.size(); ++i) ASSERT_EQ(points[i], expected[i]) << "point " << i << " distorted " << distorted;
+    // The unmasked back-projection shares the rays.
+    std::vector<Eigen::Vector3d> every;
+    for (int v = 0; v < cam.height; ++v)
+      for (int u = 0; u < cam.width; ++u)
+        if (depth.at(u, v) > 0) every.push_back(cam.Unproject({u, v}, depth.at(u, v)));
+    EXPECT_EQ(DepthToPoints(depth, cam), every) << "distorted " << distorted;
   }
 }
 
