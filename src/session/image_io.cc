@@ -7,6 +7,7 @@
 #include <ImfOutputFile.h>
 #include <Iex.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <fstream>
@@ -176,6 +177,25 @@ DepthImage ReadDepth(const fs::path& path, double depth_unit_m) {
     for (int u = 0; u < raw.cols; ++u) depth.at(u, v) = static_cast<float>(in[u] * depth_unit_m);
   }
   return depth;
+}
+
+LabelImage ReadIdImage(const fs::path& path) {
+  if (!fs::exists(path)) throw InputError(path.string(), "id image is missing");
+  const std::vector<uint8_t> bytes = ReadWholeImage(path);
+  // A label run writes 16-bit ids: the depth decoder reads them (its float holds every 16-bit id exactly).
+  if (const std::optional<Image<float>> ids = DecodeGray16Png(bytes, 1.0, path.string())) {
+    LabelImage out(ids->width, ids->height);
+    std::transform(ids->data.begin(), ids->data.end(), out.data.begin(), [](float id) { return static_cast<uint16_t>(id); });
+    return out;
+  }
+  const cv::Mat m = Decode(path, bytes, cv::IMREAD_UNCHANGED);
+  if (m.channels() != 1 || (m.depth() != CV_8U && m.depth() != CV_16U))
+    throw InputError(path.string(), "must be a single-channel 8- or 16-bit PNG of ids (0 = background)");
+  cv::Mat ids;
+  m.convertTo(ids, CV_16U);
+  LabelImage out(ids.cols, ids.rows);
+  for (int v = 0; v < ids.rows; ++v) std::copy_n(ids.ptr<uint16_t>(v), ids.cols, &out.at(0, v));
+  return out;
 }
 
 }  // namespace mocap

@@ -31,5 +31,8 @@ cv::Mat ReadColor(const std::filesystem::path& path);
 /// Depth in metres (0 = invalid): a 16-bit PNG scaled by depth_unit_m, or an OpenEXR "Z" channel.
 /// Throws InputError naming the file when absent, truncated, of the wrong type, or not an image.
 DepthImage ReadDepth(const std::filesystem::path& path, double depth_unit_m);
+/// An id image (a label run's instance or class PNG, a user's mask: single-channel 8- or 16-bit PNG, 0 =
+/// background). Throws InputError naming the file when absent, truncated, colour or not an image.
+LabelImage ReadIdImage(const std::filesystem::path& path);
 
 }  // namespace mocap

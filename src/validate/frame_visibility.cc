@@ -33,9 +33,12 @@ ModelCrop VisibleInFrameCropSource::Visible(const Rigid3d& T_camera_model, Model
   PointCloud visible, normals;
   visible.reserve(crop.points_model.size());
   const bool has_normals = crop.normals_model.size() == crop.points_model.size();
+  // The rotation as a matrix once per crop: applying the quaternion costs twice the arithmetic per point.
+  const Eigen::Matrix3d R = T_camera_model.rotation_matrix();
+  const Eigen::Vector3d t = T_camera_model.translation();
   for (size_t i = 0; i < crop.points_model.size(); ++i) {
     const Eigen::Vector3d& p_model = crop.points_model[i];
-    const Eigen::Vector3d p_camera = T_camera_model * p_model;
+    const Eigen::Vector3d p_camera = R * p_model + t;
     const auto pixel = camera_.Project(p_camera);
     if (!pixel) continue;
     const int u = NearestPixel(pixel->x()), v = NearestPixel(pixel->y());

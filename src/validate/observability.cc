@@ -148,13 +148,15 @@ NormalEquations Build(const PointCloud& points, const PointCloud& normals, const
     Vector6d J;
     J << (points[i] - e.center).cross(normals[i]) / e.radius_m, normals[i];
     const double r = residuals[m], w = weights[m];
-    e.A += w * J * J.transpose();
+    e.A.selfadjointView<Eigen::Upper>().rankUpdate(J, w);  // the lower half is filled once, below
     e.b += w * J * r;
     e.rmse_m += w * r * r;
     weight_sum += w;
   }
   // Weighted means: the information per supported point and the residual RMS of the points kept.
   e.rmse_m = std::sqrt(e.rmse_m / weight_sum);
+  const Matrix6d upper = e.A;
+  e.A = upper.selfadjointView<Eigen::Upper>();
   e.A /= weight_sum;
   e.b /= weight_sum;
   return e;

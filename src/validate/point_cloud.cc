@@ -9,6 +9,69 @@
 #include "core/check.h"
 
 namespace mocap {
+namespace {
+
+/// std::floor to an integer without the libm call (x86-64 without SSE4.1 does not inline it, and
+/// thinning floors three coordinates per point). NaN and |x| >= 2^62 give 0 rather than an undefined
+/// conversion; the key's 21 bits per axis wrap anything beyond a million voxels anyway.
+int64_t FloorToInt64(double x) {
+  if (!(std::abs(x) < 0x1p62)) return 0;
+  const auto truncated = static_cast<int64_t>(x);  // toward zero
+  return truncated - (x < static_cast<double>(truncated));
+}
+
+/// Voxel cells in order of first appearance, found through an open-addressing table kept at most half
+/// full: a node-based map allocated a node per cell, which cost more than the rest of a record's scene
+/// set-up, and a table sized for every point cleared megabytes for a few thousand cells.
+class VoxelCells {
+ public:
+  /// The index of the cell of `key`, added when new.
+  uint32_t Find(uint64_t key) {
+    if (2 * (cells_.size() + 1) > slots_.size()) Grow();
+    size_t slot = Slot(key);
+    while (slots_[slot] != kEmpty && cells_[slots_[slot]].key != key) slot = (slot + 1) & (slots_.size() - 1);
+    if (slots_[slot] == kEmpty) {
+      slots_[slot] = static_cast<uint32_t>(cells_.size());
+      cells_.push_back({key, Eigen::Vector3d::Zero(), 0});
+    }
+    return slots_[slot];
+  }
+  void Add(uint32_t cell, const Eigen::Vector3d& p) {
+    cells_[cell].sum += p;
+    ++cells_[cell].count;
+  }
+  PointCloud Means() const {
+    PointCloud out(cells_.size());
+    for (size_t i = 0; i < cells_.size(); ++i) out[i] = cells_[i].sum / cells_[i].count;
+    return out;
+  }
+
+ private:
+  static constexpr uint32_t kEmpty = std::numeric_limits<uint32_t>::max();
+  struct Cell {
+    uint64_t key;
+    Eigen::Vector3d sum;
+    int count;
+  };
+  size_t Slot(uint64_t key) const {
+    return static_cast<size_t>((key * 0x9E3779B97F4A7C15ull) >> shift_);  // Fibonacci hashing
+  }
+  void Grow() {
+    const size_t capacity = std::max<size_t>(1024, 2 * slots_.size());
+    slots_.assign(capacity, kEmpty);
+    shift_ = 64 - std::countr_zero(capacity);
+    for (size_t i = 0; i < cells_.size(); ++i) {
+      size_t slot = Slot(cells_[i].key);
+      while (slots_[slot] != kEmpty) slot = (slot + 1) & (capacity - 1);
+      slots_[slot] = static_cast<uint32_t>(i);
+    }
+  }
+  std::vector<Cell> cells_;
+  std::vector<uint32_t> slots_;
+  int shift_ = 64;
+};
+
+}  // namespace
 
 Eigen::Vector3d ComponentMedian(const PointCloud& points) {
   MOCAP_CHECK(!points.empty(), "median of an empty cloud");
@@ -40,41 +103,22 @@ PointCloud Transform(const Rigid3d& T_a_b, const PointCloud& points_b) {
 
 PointCloud VoxelDownsample(const PointCloud& points, double voxel_m) {
   if (voxel_m <= 0.0) return points;
-  // Cells in order of first appearance, found through an open-addressing table at most half full: a
-  // node-based map allocated a node per cell, which cost more than the rest of a record's scene set-up.
-  struct Cell {
-    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-    int count = 0;
-  };
-  std::vector<Cell> cells;
-  cells.reserve(points.size());
-  size_t capacity = 16;
-  while (capacity < 2 * points.size()) capacity *= 2;
-  constexpr uint32_t kEmpty = std::numeric_limits<uint32_t>::max();
-  std::vector<uint32_t> slot_cell(capacity, kEmpty);
-  std::vector<uint64_t> slot_key(capacity);
-  const int shift = 64 - std::countr_zero(capacity);
+  VoxelCells cells;
   const double inv = 1.0 / voxel_m;
+  // A cloud back-projected from a depth image comes row by row, and neighbouring pixels mostly share a
+  // voxel: the previous point's cell is tried before the table.
+  uint64_t last_key = ~uint64_t{0};
+  uint32_t last_cell = 0;
   for (const auto& p : points) {
     // 21 bits per axis (+-1 million voxels) is far beyond any camera range at millimetre voxels.
     const auto key_of = [&](int axis) {
-      return static_cast<uint64_t>(static_cast<int64_t>(std::floor(p[axis] * inv)) + (1 << 20)) & 0x1FFFFF;
+      return static_cast<uint64_t>(FloorToInt64(p[axis] * inv) + (1 << 20)) & 0x1FFFFF;
     };
     const uint64_t key = key_of(0) | (key_of(1) << 21) | (key_of(2) << 42);
-    size_t slot = static_cast<size_t>((key * 0x9E3779B97F4A7C15ull) >> shift);  // Fibonacci hashing
-    while (slot_cell[slot] != kEmpty && slot_key[slot] != key) slot = (slot + 1) & (capacity - 1);
-    if (slot_cell[slot] == kEmpty) {
-      slot_cell[slot] = static_cast<uint32_t>(cells.size());
-      slot_key[slot] = key;
-      cells.emplace_back();
-    }
-    Cell& cell = cells[slot_cell[slot]];
-    cell.sum += p;
-    ++cell.count;
+    if (key != last_key) last_cell = cells.Find(key), last_key = key;
+    cells.Add(last_cell, p);
   }
-  PointCloud out(cells.size());
-  for (size_t i = 0; i < cells.size(); ++i) out[i] = cells[i].sum / cells[i].count;
-  return out;
+  return cells.Means();
 }
 
 Box3d BoundingBox(const PointCloud& points, double margin_m) {

@@ -8,10 +8,10 @@
 #include <mutex>
 #include <tuple>
 #include <omp.h>
-#include <opencv2/imgcodecs.hpp>
 
 #include "core/check.h"
 #include "session/depth_in_color.h"
+#include "session/image_io.h"
 #include "render/mesh.h"
 #include "session/records.h"
 #include "validate/depth_time.h"
@@ -24,20 +24,6 @@ namespace {
 namespace fs = std::filesystem;
 
 std::string Stem(int64_t index) { return FrameFileStem(index); }
-
-/// A label PNG (8- or 16-bit, one channel). Throws InputError naming the file.
-LabelImage ReadLabelPng(const fs::path& path) {
-  if (!fs::exists(path)) throw InputError(path.string(), "mask file is missing");
-  const cv::Mat m = cv::imread(path.string(), cv::IMREAD_UNCHANGED);
-  if (m.empty()) throw InputError(path.string(), "cannot be read as an image");
-  if (m.channels() != 1 || (m.depth() != CV_8U && m.depth() != CV_16U))
-    throw InputError(path.string(), "must be a single-channel 8- or 16-bit PNG of ids (0 = background)");
-  LabelImage out(m.cols, m.rows);
-  for (int v = 0; v < m.rows; ++v)
-    for (int u = 0; u < m.cols; ++u)
-      out.at(u, v) = m.depth() == CV_8U ? m.at<uint8_t>(v, u) : m.at<uint16_t>(v, u);
-  return out;
-}
 
 /// Everything one frame's records need, loaded once; a load failure is kept as a reason.
 struct FrameInputs {
@@ -80,7 +66,7 @@ FrameInputs LoadFrame(const SessionReader& session, const LabelRunView& labels, 
   }
   const auto load = [](const fs::path& path, LabelImage& image, std::string& problem) {
     try {
-      image = ReadLabelPng(path);
+      image = ReadIdImage(path);
     } catch (const InputError& e) {
       problem = e.what();
     }
@@ -153,35 +139,12 @@ struct ObjectModel {
   std::vector<ModelCrop> view_crops;  ///< for the view-sphere seed
 };
 
-std::map<int, ObjectModel> LoadModels(const std::vector<ValidationObject>& objects,
-                                      const std::vector<RecordCheck>& records, const SessionCheckOptions& options) {
-  std::map<int, ObjectModel> models;
-  for (const RecordCheck& r : records) {
-    if (models.contains(r.object)) continue;
-    const auto it = std::find_if(objects.begin(), objects.end(), [&](const auto& o) { return o.id == r.object; });
-    if (it == objects.end())
-      throw InputError(Str("labels.jsonl object ", r.object), "not among the objects given (pass the --objects the label run used)");
-    const Mesh mesh = LoadMesh(it->mesh_path.string(), it->unit_scale_to_m);
-    ObjectModel model;
-    model.options = OptionsFor(mesh, options.validate);
-    model.thinned_options = model.options;
-    model.thinned_options.scene_voxel_m = 0;
-    if (options.crops == CropBackend::kRenderer)
-      model.source = std::make_unique<RenderedCropSource>(mesh, model.options.crop, options.context);
-    else
-      model.source = std::make_unique<SurfaceCropSource>(SurfaceCropSource::FromMesh(ToTriangleMesh(mesh), model.options.crop));
-    model.crops = std::make_unique<CachedCropSource>(*model.source, model.options.crop_cache);
-    if (model.options.check_seed == AcquisitionSeed::kViewSphere && !options.track)
-      model.view_crops = MakeViewSphereCrops(*model.crops, model.options.acquisition);
-    models.emplace(r.object, std::move(model));
-  }
-  return models;
-}
-
-/// Runs body(i) for i in [0, n) on OpenMP threads; the first exception is rethrown after all finish.
+/// Runs body(i) for i in [0, n) on OpenMP threads; after all finish, the exception of the lowest i that
+/// threw is rethrown (the same error whatever the threads' timing).
 template <typename Body>
 void ParallelFor(int n, int threads, Body body) {
   std::exception_ptr error;
+  int error_index = n;
   std::mutex mutex;
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads > 0 ? threads : omp_get_max_threads())
   for (int i = 0; i < n; ++i) {
@@ -189,10 +152,46 @@ void ParallelFor(int n, int threads, Body body) {
       body(i);
     } catch (...) {
       std::lock_guard lock(mutex);
-      if (!error) error = std::current_exception();
+      if (i < error_index) error = std::current_exception(), error_index = i;
     }
   }
   if (error) std::rethrow_exception(error);
+}
+
+ObjectModel LoadModel(const ValidationObject& object, const SessionCheckOptions& options) {
+  const Mesh mesh = LoadMesh(object.mesh_path.string(), object.unit_scale_to_m);
+  ObjectModel model;
+  model.options = OptionsFor(mesh, options.validate);
+  model.thinned_options = model.options;
+  model.thinned_options.scene_voxel_m = 0;
+  if (options.crops == CropBackend::kRenderer)
+    model.source = std::make_unique<RenderedCropSource>(mesh, model.options.crop, options.context);
+  else
+    model.source = std::make_unique<SurfaceCropSource>(SurfaceCropSource::FromMesh(ToTriangleMesh(mesh), model.options.crop));
+  model.crops = std::make_unique<CachedCropSource>(*model.source, model.options.crop_cache);
+  if (model.options.check_seed == AcquisitionSeed::kViewSphere && !options.track)
+    model.view_crops = MakeViewSphereCrops(*model.crops, model.options.acquisition);
+  return model;
+}
+
+/// The records' objects, each loaded once; the surface samplings run in parallel (a table's took a
+/// tenth of a second), the renderer's crop sources one after another on its one context.
+std::map<int, ObjectModel> LoadModels(const std::vector<ValidationObject>& objects,
+                                      const std::vector<RecordCheck>& records, const SessionCheckOptions& options) {
+  std::vector<const ValidationObject*> wanted;
+  for (const RecordCheck& r : records) {
+    if (std::ranges::any_of(wanted, [&](const ValidationObject* o) { return o->id == r.object; })) continue;
+    const auto it = std::find_if(objects.begin(), objects.end(), [&](const auto& o) { return o.id == r.object; });
+    if (it == objects.end())
+      throw InputError(Str("labels.jsonl object ", r.object), "not among the objects given (pass the --objects the label run used)");
+    wanted.push_back(&*it);
+  }
+  std::vector<ObjectModel> loaded(wanted.size());
+  const int threads = options.crops == CropBackend::kRenderer ? 1 : options.threads;
+  ParallelFor(static_cast<int>(wanted.size()), threads, [&](int i) { loaded[i] = LoadModel(*wanted[i], options); });
+  std::map<int, ObjectModel> models;
+  for (size_t i = 0; i < wanted.size(); ++i) models.emplace(wanted[i]->id, std::move(loaded[i]));
+  return models;
 }
 
 /// Groups record indices by key, each group in labels.jsonl order.

@@ -4,9 +4,11 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <opencv2/imgcodecs.hpp>
 #include <nlohmann/json.hpp>
 
 #include "session/durable_file.h"
+#include "session/image_io.h"
 #include "session/reader.h"
 #include "session/record_file.h"
 #include "session/writer.h"
@@ -188,6 +190,45 @@ TEST(BadInput, EightBitDepthPngIsRefused) {
   const SessionReader reader = SessionReader::Open(dir);
   fs::copy_file(reader.ColorPath("kinect1", 0), reader.DepthPath("kinect1", 0), fs::copy_options::overwrite_existing);
   EXPECT_THAT(ErrorOf([&] { reader.LoadDepth("kinect1", 0); }), HasSubstr("must be 16-bit single-channel"));
+}
+
+TEST(IdImage, ReadsEightAndSixteenBitIdsExactly) {
+  TempDir tmp;
+  cv::Mat ids16(3, 4, CV_16UC1), ids8(3, 4, CV_8UC1);
+  for (int v = 0; v < 3; ++v)
+    for (int u = 0; u < 4; ++u) {
+      ids16.at<uint16_t>(v, u) = static_cast<uint16_t>(v * 20000 + u * 1111);
+      ids8.at<uint8_t>(v, u) = static_cast<uint8_t>(v * 100 + u);
+    }
+  ids16.at<uint16_t>(2, 3) = 65535;  // the largest id, exact through the decoder's float
+  for (const cv::Mat& ids : {ids16, ids8}) {
+    const fs::path path = tmp.path() / (ids.depth() == CV_16U ? "ids16.png" : "ids8.png");
+    ASSERT_TRUE(cv::imwrite(path.string(), ids));
+    const LabelImage read = ReadIdImage(path);
+    ASSERT_EQ(read.width, 4);
+    ASSERT_EQ(read.height, 3);
+    for (int v = 0; v < 3; ++v)
+      for (int u = 0; u < 4; ++u) {
+        const int expected = ids.depth() == CV_16U ? ids.at<uint16_t>(v, u) : ids.at<uint8_t>(v, u);
+        EXPECT_EQ(read.at(u, v), expected) << path << " (" << u << ", " << v << ")";
+      }
+  }
+}
+
+TEST(IdImage, BadFilesNameTheFile) {
+  TempDir tmp;
+  const fs::path missing = tmp.path() / "missing.png";
+  EXPECT_THAT(ErrorOf([&] { ReadIdImage(missing); }), AllOf(HasSubstr("missing.png"), HasSubstr("missing")));
+  const fs::path colour = tmp.path() / "colour.png";
+  ASSERT_TRUE(cv::imwrite(colour.string(), cv::Mat(4, 4, CV_8UC3, cv::Scalar(1, 2, 3))));
+  EXPECT_THAT(ErrorOf([&] { ReadIdImage(colour); }), AllOf(HasSubstr("colour.png"), HasSubstr("single-channel")));
+  const fs::path cut = tmp.path() / "cut.png";
+  ASSERT_TRUE(cv::imwrite(cut.string(), cv::Mat(64, 64, CV_16UC1, cv::Scalar(7))));
+  const std::string bytes = ReadAll(cut);
+  WriteAll(cut, bytes.substr(0, bytes.size() / 2));
+  EXPECT_THAT(ErrorOf([&] { ReadIdImage(cut); }), AllOf(HasSubstr("cut.png"), HasSubstr("truncated")));
+  WriteAll(cut, "not an image at all");
+  EXPECT_THAT(ErrorOf([&] { ReadIdImage(cut); }), AllOf(HasSubstr("cut.png"), HasSubstr("not a PNG")));
 }
 
 TEST(BadInput, ManifestVersionAndFieldsAreChecked) {
