@@ -33,6 +33,7 @@ void ScoreEstimate(const Rigid3d& label, const ValidateOptions& options, LabelCh
 bool PolishProbedDirections(const PointGrid& grid, const CropSource& model, const ValidateOptions& options,
                             LabelCheck* check) {
   if (!HasProbedDirections(check->observability)) return false;
+  // A crop of its own, not the refinement's: one from the tracking step's prediction slowed the polish.
   const ModelCrop crop = model.Crop(check->T_camera_object_segicp);
   const PlaneRefinement refined =
       RefinePointToPlane(crop, check->T_camera_object_segicp, grid, options.observability, 0.0, &check->observability);
@@ -44,23 +45,37 @@ bool PolishProbedDirections(const PointGrid& grid, const CropSource& model, cons
   return true;
 }
 
-/// Label score, errors, success and verdict once an estimate (or none) is known.
+/// The estimate's point-to-plane refinement, which moves it only where the depth constrains it, and the
+/// analysis of where that is. `made`: a converged refinement already made against `grid` that ended at
+/// the estimate (a tracking step's, with the crop it used), taken instead of refining again.
+void RefineEstimate(const PointGrid& grid, const CropSource& model, const ValidateOptions& options,
+                    const TrackStep* made, LabelCheck* check) {
+  if (made) {
+    // Its score is the estimate's score already (the same crop, pose and scene).
+    check->observability = ProbeObservability(model, made->refinement_crop, check->T_camera_object_segicp, grid,
+                                              options.observability, made->refinement->observability);
+    PolishProbedDirections(grid, model, options, check);
+    return;
+  }
+  const ModelCrop crop = model.Crop(check->T_camera_object_segicp);
+  const PlaneRefinement refined = RefinePointToPlane(crop, check->T_camera_object_segicp, grid, options.observability);
+  if (refined.iterations > 0) check->T_camera_object_segicp = refined.T_camera_object;
+  // A converged refinement's last equations are the analysis at its result (within refine_step_m).
+  check->observability =
+      refined.converged
+          ? ProbeObservability(model, crop, check->T_camera_object_segicp, grid, options.observability, refined.observability)
+          : AnalyseObservability(model, check->T_camera_object_segicp, grid, options.observability, &crop);
+  // The refined pose is scored only when the polish leaves it: the polish scores its own result.
+  if (!PolishProbedDirections(grid, model, options, check) && refined.iterations > 0)
+    check->segicp_score = ScoreAlignment(crop.points_model, refined.T_camera_object, grid, options.alignment).score;
+}
+
+/// Label score, errors, success and verdict once an estimate (or none) is known; `made` as RefineEstimate.
 void Finish(const PointGrid& grid, const Rigid3d& label, const CropSource& model, const ValidateOptions& options,
-            LabelCheck* check) {
+            LabelCheck* check, const TrackStep* made = nullptr) {
   check->label_score = ScoreAlignment(model.CropPoints(label).points_model, label, grid, options.alignment).score;
   if (check->estimated) {
-    // The point-to-plane polish moves the estimate only where the depth constrains it, and says where.
-    const ModelCrop crop = model.Crop(check->T_camera_object_segicp);
-    const PlaneRefinement refined = RefinePointToPlane(crop, check->T_camera_object_segicp, grid, options.observability);
-    if (refined.iterations > 0) check->T_camera_object_segicp = refined.T_camera_object;
-    // A converged refinement's last equations are the analysis at its result (within refine_step_m).
-    check->observability =
-        refined.converged
-            ? ProbeObservability(model, crop, check->T_camera_object_segicp, grid, options.observability, refined.observability)
-            : AnalyseObservability(model, check->T_camera_object_segicp, grid, options.observability, &crop);
-    // The refined pose is scored only when the polish leaves it: the polish scores its own result.
-    if (!PolishProbedDirections(grid, model, options, check) && refined.iterations > 0)
-      check->segicp_score = ScoreAlignment(crop.points_model, refined.T_camera_object, grid, options.alignment).score;
+    RefineEstimate(grid, model, options, made, check);
     ScoreEstimate(label, options, check);
   }
   DecideVerdict(options.verdict, check);
@@ -285,7 +300,13 @@ LabelCheck CheckLabelWithTrack(const PointCloud& scene_camera, const Rigid3d& T_
     return BadInputCheck(VerdictReason::kTooFewPoints,
                     Str("too few scene points (", scene.size(), " < ", options.min_scene_points, ")"),
                     static_cast<int>(scene.size()));
-  const PointGrid grid(scene);
+  // The step's index holds the cloud given to it, which is this one when thinning left it as it was,
+  // less (for a tracking step) the points beyond box_margin_m of the model's box at the prediction. The
+  // estimate's queries (gates of a centimetre about a pose near the track) never reach those; only a label
+  // more than box_margin_m - tau off the track could have matched some, in a score that is low anyway.
+  const bool same_scene = track.scene_grid && scene.size() == scene_camera.size();
+  const std::optional<PointGrid> own = same_scene ? std::nullopt : std::make_optional<PointGrid>(scene);
+  const PointGrid& grid = same_scene ? *track.scene_grid : *own;
   LabelCheck check;
   check.scene_points = static_cast<int>(scene.size());
   if (track.measured) {
@@ -294,7 +315,8 @@ LabelCheck CheckLabelWithTrack(const PointCloud& scene_camera, const Rigid3d& T_
     check.segicp_score = track.score;
     check.icp = track.icp;
   }
-  Finish(grid, T_camera_object_label, model, options, &check);
+  Finish(grid, T_camera_object_label, model, options, &check,
+         same_scene && track.measured && track.refinement ? &track : nullptr);
   return check;
 }
 

@@ -87,7 +87,10 @@ ObservedDifference JudgedDifference(const LabelCheck& c);
 LabelCheck CheckLabel(const PointCloud& scene_camera, const Rigid3d& T_camera_object_label, const CropSource& model,
                       const std::vector<ModelCrop>& view_crops, const ValidateOptions& options);
 
-/// Same, with the estimate of a tracker that already ran on this frame (the sequence mode).
+/// Same, with the estimate of a tracker that already ran on this frame (the sequence mode): `track` is
+/// the step the tracker made on the same `scene_camera` with the same `model` and options. Its index of
+/// the scene and its converged point-to-plane refinement, when it kept them (TrackStep), are used
+/// instead of being made again.
 LabelCheck CheckLabelWithTrack(const PointCloud& scene_camera, const Rigid3d& T_camera_object_label,
                                const CropSource& model, const TrackStep& track, const ValidateOptions& options);
 

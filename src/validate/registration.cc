@@ -10,8 +10,10 @@ IcpResult SegIcpRegistration::PointToPoint(const PointCloud& source_model, const
 IcpResult SegIcpRegistration::PointToPlane(const ModelCrop& crop, const PointGrid& scene_camera,
                                            const Rigid3d& T_camera_model_init, const ObservabilityOptions& options,
                                            double first_gate_m) const {
-  const PlaneRefinement refined = RefinePointToPlane(crop, T_camera_model_init, scene_camera, options, first_gate_m);
-  // The refinement counts no inliers and has no stop reason of its own; those fields keep their defaults.
+  return ToIcpResult(RefinePointToPlane(crop, T_camera_model_init, scene_camera, options, first_gate_m));
+}
+
+IcpResult ToIcpResult(const PlaneRefinement& refined) {
   IcpResult result;
   result.T_target_source = refined.T_camera_object;
   result.iterations = refined.iterations;

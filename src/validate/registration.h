@@ -46,6 +46,10 @@ class SegIcpRegistration final : public Registration {
                          const ObservabilityOptions& options, double first_gate_m) const override;
 };
 
+/// A point-to-plane refinement as a registration result (the refinement counts no inliers and has no stop
+/// reason of its own; those fields keep their defaults).
+IcpResult ToIcpResult(const PlaneRefinement& refined);
+
 /// `registration`, or the validator's own when it is null.
 const Registration& RegistrationOrOwn(const std::shared_ptr<const Registration>& registration);
 

@@ -24,6 +24,9 @@ TrackStep ObjectTracker::Step(const PointCloud& scene_camera, const Rigid3d& T_w
     step.note = "track lost (pose uncertainty above the limit); ";
   }
   const PointCloud scene = VoxelDownsample(scene_camera, options_.scene_voxel_m);
+  // Thinning keeps the order and leaves a point alone in its voxel as it is: a cloud of the same size is
+  // the given one.
+  const bool scene_given = scene.size() == scene_camera.size();
   step.mode = mode_;
   step.scene_points = static_cast<int>(scene.size());
   bool acquire = false;
@@ -39,7 +42,7 @@ TrackStep ObjectTracker::Step(const PointCloud& scene_camera, const Rigid3d& T_w
       step.note += gap ? "frames too far apart to track; " : prior_far ? "prior far from the track; " : "periodic cross-check; ";
       acquire = true;
     } else {
-      RunTracking(scene, T_world_camera, model, &step);
+      RunTracking(scene, scene_given, T_world_camera, model, &step);
       // A failed step (back to acquisition) is followed by an acquisition now when a prior can seed it.
       acquire = mode_ == TrackMode::kAcquisition && T_camera_object_prior;
     }
@@ -51,7 +54,7 @@ TrackStep ObjectTracker::Step(const PointCloud& scene_camera, const Rigid3d& T_w
     fresh.scene_points = static_cast<int>(scene.size());
     fresh.note = std::move(step.note);
     step = std::move(fresh);
-    RunAcquisition(scene, T_world_camera, stamp_ns, T_camera_object_prior, model, &step);
+    RunAcquisition(scene, scene_given, T_world_camera, stamp_ns, T_camera_object_prior, model, &step);
   }
   last_stamp_ns_ = stamp_ns;
   step.has_pose = filter_.initialized() && !filter_.lost();
@@ -59,8 +62,8 @@ TrackStep ObjectTracker::Step(const PointCloud& scene_camera, const Rigid3d& T_w
   return step;
 }
 
-void ObjectTracker::RunTracking(const PointCloud& scene, const Rigid3d& T_world_camera, const CropSource& model,
-                                TrackStep* step) {
+void ObjectTracker::RunTracking(const PointCloud& scene, bool scene_given, const Rigid3d& T_world_camera,
+                                const CropSource& model, TrackStep* step) {
   const Rigid3d T_camera_world = T_world_camera.inverse();
   const Rigid3d predicted = T_camera_world * filter_.pose();
   const PointCloud pruned = CropToBox(scene, predicted, model_box_);
@@ -70,15 +73,24 @@ void ObjectTracker::RunTracking(const PointCloud& scene, const Rigid3d& T_world_
     step->note += Str("too few points near the predicted pose (", step->scene_points, "); back to acquisition");
     return;
   }
-  const PointGrid grid(pruned);
-  const ModelCrop crop = model.Crop(predicted);
+  const auto grid = std::make_shared<const PointGrid>(pruned);
+  ModelCrop crop = model.Crop(predicted);
   // Point-to-plane from the prediction; the validator's own moves only in the directions the depth
   // constrains: a table top tracked by point-to-point ICP slid along its plane from frame to frame.
-  step->icp = RegistrationOrOwn(options_.acquisition.registration)
-                  .PointToPlane(crop, grid, predicted, options_.observability, options_.tracking.initial_gate_m);
+  if (options_.acquisition.registration) {
+    step->icp = options_.acquisition.registration->PointToPlane(crop, *grid, predicted, options_.observability,
+                                                                options_.tracking.initial_gate_m);
+  } else {
+    PlaneRefinement refined =
+        RefinePointToPlane(crop, predicted, *grid, options_.observability, options_.tracking.initial_gate_m);
+    step->icp = ToIcpResult(refined);
+    if (scene_given && refined.converged) step->refinement = std::move(refined);
+  }
   step->measured = true;
   step->T_camera_object_measured = step->icp.T_target_source;
-  step->score = ScoreAlignment(crop.points_model, step->T_camera_object_measured, grid, options_.alignment).score;
+  step->score = ScoreAlignment(crop.points_model, step->T_camera_object_measured, *grid, options_.alignment).score;
+  if (scene_given) step->scene_grid = grid;
+  if (step->refinement) step->refinement_crop = std::move(crop);
   if (step->score < options_.tracking.theta) {
     mode_ = TrackMode::kAcquisition;
     step->note += Str("score ", step->score, " below theta; propagating, back to acquisition");
@@ -89,9 +101,12 @@ void ObjectTracker::RunTracking(const PointCloud& scene, const Rigid3d& T_world_
   if (!update.accepted) step->note += Str("measurement gated out (Mahalanobis^2 ", update.mahalanobis_sq, ")");
 }
 
-void ObjectTracker::RunAcquisition(const PointCloud& scene, const Rigid3d& T_world_camera, int64_t stamp_ns,
-                                   const Rigid3d* T_camera_object_prior, const CropSource& model, TrackStep* step) {
-  const PointGrid grid(scene);
+void ObjectTracker::RunAcquisition(const PointCloud& scene, bool scene_given, const Rigid3d& T_world_camera,
+                                   int64_t stamp_ns, const Rigid3d* T_camera_object_prior, const CropSource& model,
+                                   TrackStep* step) {
+  const auto shared_grid = std::make_shared<const PointGrid>(scene);
+  const PointGrid& grid = *shared_grid;
+  if (scene_given) step->scene_grid = shared_grid;
   // A given prior seeds the hypotheses, else the filter's prediction while it holds a pose, else the
   // view sphere (whose crops are made on first use).
   AcquisitionResult r;

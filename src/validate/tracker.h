@@ -3,9 +3,13 @@
 // above epsilon, then tracking (box pruning, ICP from the filter's prediction, Kalman update weighted
 // by the score); a score below theta propagates the filter and returns to acquisition.
 #include <cstdint>
+#include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "validate/observability.h"
+#include "validate/point_grid.h"
 #include "validate/pose_filter.h"
 #include "validate/validate_options.h"
 
@@ -25,6 +29,16 @@ struct TrackStep {
   int scene_points = 0;                      ///< after thinning (and pruning, when tracking)
   IcpResult icp;
   std::string note;                          ///< what happened, for reports
+  /// The index the step measured against, when Step did not thin the cloud it was given: the whole
+  /// cloud for an acquisition, the points near the predicted pose for a tracking step (box_margin_m
+  /// around the model's box). A label check of the same cloud measures against it too.
+  std::shared_ptr<const PointGrid> scene_grid;
+  /// The tracking step's point-to-plane refinement when the validator's own registration made it
+  /// against `scene_grid` and it converged: its result is the measurement and its last equations are the
+  /// analysis there, made with `refinement_crop`. A label check takes it as its own first refinement
+  /// (CheckLabelWithTrack) instead of repeating it.
+  std::optional<PlaneRefinement> refinement;
+  ModelCrop refinement_crop;
 };
 
 class ObjectTracker {
@@ -50,9 +64,11 @@ class ObjectTracker {
   const PoseFilter& filter() const { return filter_; }
 
  private:
-  void RunAcquisition(const PointCloud& scene, const Rigid3d& T_world_camera, int64_t stamp_ns,
+  /// `scene_given`: `scene` is the cloud given to Step (thinning left it as it was).
+  void RunAcquisition(const PointCloud& scene, bool scene_given, const Rigid3d& T_world_camera, int64_t stamp_ns,
                       const Rigid3d* T_camera_object_prior, const CropSource& model, TrackStep* step);
-  void RunTracking(const PointCloud& scene, const Rigid3d& T_world_camera, const CropSource& model, TrackStep* step);
+  void RunTracking(const PointCloud& scene, bool scene_given, const Rigid3d& T_world_camera, const CropSource& model,
+                   TrackStep* step);
 
   const CropSource& model_;
   ValidateOptions options_;
