@@ -69,9 +69,9 @@ class TimedRegistration final : public Registration {
     return r;
   }
   IcpResult PointToPlane(const ModelCrop& crop, const PointGrid& scene, const Rigid3d& T_init,
-                         const ObservabilityOptions& options, double first_gate_m) const override {
+                         const ObservabilityOptions& options, double first_gate_m, PlaneRefinement* refinement) const override {
     const double start = ThreadCpuS();
-    IcpResult r = inner_->PointToPlane(crop, scene, T_init, options, first_gate_m);
+    IcpResult r = inner_->PointToPlane(crop, scene, T_init, options, first_gate_m, refinement);
     Add(point_to_plane_ns_, start);
     return r;
   }

@@ -111,7 +111,8 @@ class PclRegistration final : public Registration {
   }
 
   IcpResult PointToPlane(const ModelCrop& crop, const PointGrid& scene_camera, const Rigid3d& T_camera_model_init,
-                         const ObservabilityOptions& options, double first_gate_m) const override {
+                         const ObservabilityOptions& options, double first_gate_m,
+                         PlaneRefinement* /*refinement: the validator's own only*/) const override {
     if (crop.points_model.empty() || scene_camera.size() == 0) return UnmovedResult(T_camera_model_init);
     const double radius_m = options.normal_radius_m;
     const auto scene = with_normals_.Get(scene_camera, [radius_m](const PointGrid& g) { return BuildWithNormals(g, radius_m); });

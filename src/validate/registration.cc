@@ -9,8 +9,11 @@ IcpResult SegIcpRegistration::PointToPoint(const PointCloud& source_model, const
 
 IcpResult SegIcpRegistration::PointToPlane(const ModelCrop& crop, const PointGrid& scene_camera,
                                            const Rigid3d& T_camera_model_init, const ObservabilityOptions& options,
-                                           double first_gate_m) const {
-  return ToIcpResult(RefinePointToPlane(crop, T_camera_model_init, scene_camera, options, first_gate_m));
+                                           double first_gate_m, PlaneRefinement* refinement) const {
+  PlaneRefinement refined = RefinePointToPlane(crop, T_camera_model_init, scene_camera, options, first_gate_m);
+  const IcpResult result = ToIcpResult(refined);
+  if (refinement) *refinement = std::move(refined);
+  return result;
 }
 
 IcpResult ToIcpResult(const PlaneRefinement& refined) {

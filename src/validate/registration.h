@@ -30,9 +30,12 @@ class Registration {
 
   /// The tracking step: point-to-plane from the prediction T_camera_model_init, the first correspondence
   /// gate `first_gate_m`, then options.support_distance_m, at most options.refine_iterations iterations on
-  /// at most options.max_points crop points. Thread-safe as above.
+  /// at most options.max_points crop points. Thread-safe as above. `refinement` (may be null): the
+  /// validator's own writes its RefinePointToPlane there, whose last equations a label check of the frame
+  /// takes as its analysis (TrackStep::refinement); another library's leaves it alone.
   virtual IcpResult PointToPlane(const ModelCrop& crop, const PointGrid& scene_camera, const Rigid3d& T_camera_model_init,
-                                 const ObservabilityOptions& options, double first_gate_m) const = 0;
+                                 const ObservabilityOptions& options, double first_gate_m,
+                                 PlaneRefinement* refinement) const = 0;
 };
 
 /// The validator's own: AlignPointToPoint, and RefinePointToPlane, which moves the pose only in the
@@ -43,7 +46,8 @@ class SegIcpRegistration final : public Registration {
   IcpResult PointToPoint(const PointCloud& source_model, const PointGrid& scene_camera, const Rigid3d& T_camera_model_init,
                          const IcpOptions& options) const override;
   IcpResult PointToPlane(const ModelCrop& crop, const PointGrid& scene_camera, const Rigid3d& T_camera_model_init,
-                         const ObservabilityOptions& options, double first_gate_m) const override;
+                         const ObservabilityOptions& options, double first_gate_m,
+                         PlaneRefinement* refinement) const override;
 };
 
 /// A point-to-plane refinement as a registration result (the refinement counts no inliers and has no stop

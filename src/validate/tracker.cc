@@ -77,15 +77,10 @@ void ObjectTracker::RunTracking(const PointCloud& scene, bool scene_given, const
   ModelCrop crop = model.Crop(predicted);
   // Point-to-plane from the prediction; the validator's own moves only in the directions the depth
   // constrains: a table top tracked by point-to-point ICP slid along its plane from frame to frame.
-  if (options_.acquisition.registration) {
-    step->icp = options_.acquisition.registration->PointToPlane(crop, *grid, predicted, options_.observability,
-                                                                options_.tracking.initial_gate_m);
-  } else {
-    PlaneRefinement refined =
-        RefinePointToPlane(crop, predicted, *grid, options_.observability, options_.tracking.initial_gate_m);
-    step->icp = ToIcpResult(refined);
-    if (scene_given && refined.converged) step->refinement = std::move(refined);
-  }
+  PlaneRefinement refined;
+  step->icp = RegistrationOrOwn(options_.acquisition.registration)
+                  .PointToPlane(crop, *grid, predicted, options_.observability, options_.tracking.initial_gate_m, &refined);
+  if (scene_given && refined.converged) step->refinement = std::move(refined);
   step->measured = true;
   step->T_camera_object_measured = step->icp.T_target_source;
   step->score = ScoreAlignment(crop.points_model, step->T_camera_object_measured, *grid, options_.alignment).score;

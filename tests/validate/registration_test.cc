@@ -23,9 +23,9 @@ class CountingRegistration final : public Registration {
     return own_.PointToPoint(source, scene, T_init, options);
   }
   IcpResult PointToPlane(const ModelCrop& crop, const PointGrid& scene, const Rigid3d& T_init,
-                         const ObservabilityOptions& options, double first_gate_m) const override {
+                         const ObservabilityOptions& options, double first_gate_m, PlaneRefinement* refinement) const override {
     ++point_to_plane;
-    return own_.PointToPlane(crop, scene, T_init, options, first_gate_m);
+    return own_.PointToPlane(crop, scene, T_init, options, first_gate_m, refinement);
   }
   mutable std::atomic<int> point_to_point{0}, point_to_plane{0};
 
