@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/check.h"
+#include "validate/first_seen_index.h"
 
 namespace mocap {
 namespace {
@@ -22,42 +23,12 @@ int64_t RoundHalfAway(double x) {
   return whole + (rest >= 0.5) - (rest <= -0.5);
 }
 
-/// The set of sample positions seen (on a 10 um lattice), open addressing: a node-based set allocated a
-/// node per sample, which cost most of the sampling.
-class LatticeSet {
- public:
-  /// True when `key` was not in the set (it is now).
-  bool Insert(const std::array<int64_t, 3>& key) {
-    if (2 * (size_ + 1) > keys_.size()) Grow();
-    size_t slot = Slot(key);
-    while (used_[slot]) {
-      if (keys_[slot] == key) return false;
-      slot = (slot + 1) & (keys_.size() - 1);
-    }
-    used_[slot] = 1;
-    keys_[slot] = key;
-    ++size_;
-    return true;
-  }
-
- private:
-  size_t Slot(const std::array<int64_t, 3>& k) const {
+struct LatticeHash {
+  uint64_t operator()(const std::array<int64_t, 3>& k) const {
     uint64_t h = 0;
-    for (const int64_t x : k) h = (h ^ static_cast<uint64_t>(x)) * 0x9E3779B97F4A7C15ull;  // Fibonacci hashing
-    return static_cast<size_t>(h ^ (h >> 29)) & (keys_.size() - 1);
+    for (const int64_t x : k) h = MixBits(h ^ static_cast<uint64_t>(x));
+    return h;
   }
-  void Grow() {
-    std::vector<std::array<int64_t, 3>> keys = std::move(keys_);
-    std::vector<uint8_t> used = std::move(used_);
-    keys_.assign(std::max<size_t>(1024, 2 * keys.size()), {});
-    used_.assign(keys_.size(), 0);
-    size_ = 0;
-    for (size_t i = 0; i < keys.size(); ++i)
-      if (used[i]) Insert(keys[i]);
-  }
-  std::vector<std::array<int64_t, 3>> keys_;
-  std::vector<uint8_t> used_;
-  size_t size_ = 0;
 };
 
 }  // namespace
@@ -77,9 +48,9 @@ PointCloud SampleSurface(const TriangleMesh& mesh, double spacing_m) {
   // Triangles share vertices and edges: a vertex of six triangles would be sampled six times. Samples
   // within 10 um of an earlier one are the same surface point and are kept once; the z-buffer's work
   // is per sample.
-  LatticeSet seen;
+  FirstSeenIndex<std::array<int64_t, 3>, LatticeHash> seen;  // positions on a 10 um lattice
   const auto add = [&](const Eigen::Vector3d& p) {
-    if (seen.Insert({RoundHalfAway(p.x() * 1e5), RoundHalfAway(p.y() * 1e5), RoundHalfAway(p.z() * 1e5)}))
+    if (seen.Insert({RoundHalfAway(p.x() * 1e5), RoundHalfAway(p.y() * 1e5), RoundHalfAway(p.z() * 1e5)}).second)
       points.push_back(p);
   };
   const auto steps = [spacing_m](const Eigen::Vector3d& edge) {

@@ -1,12 +1,11 @@
 #include "validate/point_cloud.h"
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
 #include <cstdint>
-#include <limits>
 
 #include "core/check.h"
+#include "validate/first_seen_index.h"
 
 namespace mocap {
 namespace {
@@ -20,55 +19,8 @@ int64_t FloorToInt64(double x) {
   return truncated - (x < static_cast<double>(truncated));
 }
 
-/// Voxel cells in order of first appearance, found through an open-addressing table kept at most half
-/// full: a node-based map allocated a node per cell, which cost more than the rest of a record's scene
-/// set-up, and a table sized for every point cleared megabytes for a few thousand cells.
-class VoxelCells {
- public:
-  /// The index of the cell of `key`, added when new.
-  uint32_t Find(uint64_t key) {
-    if (2 * (cells_.size() + 1) > slots_.size()) Grow();
-    size_t slot = Slot(key);
-    while (slots_[slot] != kEmpty && cells_[slots_[slot]].key != key) slot = (slot + 1) & (slots_.size() - 1);
-    if (slots_[slot] == kEmpty) {
-      slots_[slot] = static_cast<uint32_t>(cells_.size());
-      cells_.push_back({key, Eigen::Vector3d::Zero(), 0});
-    }
-    return slots_[slot];
-  }
-  void Add(uint32_t cell, const Eigen::Vector3d& p) {
-    cells_[cell].sum += p;
-    ++cells_[cell].count;
-  }
-  PointCloud Means() const {
-    PointCloud out(cells_.size());
-    for (size_t i = 0; i < cells_.size(); ++i) out[i] = cells_[i].sum / cells_[i].count;
-    return out;
-  }
-
- private:
-  static constexpr uint32_t kEmpty = std::numeric_limits<uint32_t>::max();
-  struct Cell {
-    uint64_t key;
-    Eigen::Vector3d sum;
-    int count;
-  };
-  size_t Slot(uint64_t key) const {
-    return static_cast<size_t>((key * 0x9E3779B97F4A7C15ull) >> shift_);  // Fibonacci hashing
-  }
-  void Grow() {
-    const size_t capacity = std::max<size_t>(1024, 2 * slots_.size());
-    slots_.assign(capacity, kEmpty);
-    shift_ = 64 - std::countr_zero(capacity);
-    for (size_t i = 0; i < cells_.size(); ++i) {
-      size_t slot = Slot(cells_[i].key);
-      while (slots_[slot] != kEmpty) slot = (slot + 1) & (capacity - 1);
-      slots_[slot] = static_cast<uint32_t>(i);
-    }
-  }
-  std::vector<Cell> cells_;
-  std::vector<uint32_t> slots_;
-  int shift_ = 64;
+struct VoxelKeyHash {
+  uint64_t operator()(uint64_t key) const { return MixBits(key); }
 };
 
 }  // namespace
@@ -103,7 +55,12 @@ PointCloud Transform(const Rigid3d& T_a_b, const PointCloud& points_b) {
 
 PointCloud VoxelDownsample(const PointCloud& points, double voxel_m) {
   if (voxel_m <= 0.0) return points;
-  VoxelCells cells;
+  struct Cell {
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    int count = 0;
+  };
+  FirstSeenIndex<uint64_t, VoxelKeyHash> index;  // cells in order of first appearance
+  std::vector<Cell> cells;
   const double inv = 1.0 / voxel_m;
   // A cloud back-projected from a depth image comes row by row, and neighbouring pixels mostly share a
   // voxel: the previous point's cell is tried before the table.
@@ -115,10 +72,17 @@ PointCloud VoxelDownsample(const PointCloud& points, double voxel_m) {
       return static_cast<uint64_t>(FloorToInt64(p[axis] * inv) + (1 << 20)) & 0x1FFFFF;
     };
     const uint64_t key = key_of(0) | (key_of(1) << 21) | (key_of(2) << 42);
-    if (key != last_key) last_cell = cells.Find(key), last_key = key;
-    cells.Add(last_cell, p);
+    if (key != last_key) {
+      const auto [cell, fresh] = index.Insert(key);
+      if (fresh) cells.emplace_back();
+      last_cell = cell, last_key = key;
+    }
+    cells[last_cell].sum += p;
+    ++cells[last_cell].count;
   }
-  return cells.Means();
+  PointCloud out(cells.size());
+  for (size_t i = 0; i < cells.size(); ++i) out[i] = cells[i].sum / cells[i].count;
+  return out;
 }
 
 Box3d BoundingBox(const PointCloud& points, double margin_m) {

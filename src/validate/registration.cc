@@ -1,6 +1,20 @@
 #include "validate/registration.h"
 
 namespace mocap {
+namespace {
+
+/// A point-to-plane refinement as a registration result (the refinement counts no inliers and has no stop
+/// reason of its own; those fields keep their defaults).
+IcpResult ToIcpResult(const PlaneRefinement& refined) {
+  IcpResult result;
+  result.T_target_source = refined.T_camera_object;
+  result.iterations = refined.iterations;
+  result.inlier_rmse_m = refined.rmse_m;
+  result.converged = refined.iterations > 0;
+  return result;
+}
+
+}  // namespace
 
 IcpResult SegIcpRegistration::PointToPoint(const PointCloud& source_model, const PointGrid& scene_camera,
                                            const Rigid3d& T_camera_model_init, const IcpOptions& options) const {
@@ -13,15 +27,6 @@ IcpResult SegIcpRegistration::PointToPlane(const ModelCrop& crop, const PointGri
   PlaneRefinement refined = RefinePointToPlane(crop, T_camera_model_init, scene_camera, options, first_gate_m);
   const IcpResult result = ToIcpResult(refined);
   if (refinement) *refinement = std::move(refined);
-  return result;
-}
-
-IcpResult ToIcpResult(const PlaneRefinement& refined) {
-  IcpResult result;
-  result.T_target_source = refined.T_camera_object;
-  result.iterations = refined.iterations;
-  result.inlier_rmse_m = refined.rmse_m;
-  result.converged = refined.iterations > 0;
   return result;
 }
 

@@ -50,10 +50,6 @@ class SegIcpRegistration final : public Registration {
                          PlaneRefinement* refinement) const override;
 };
 
-/// A point-to-plane refinement as a registration result (the refinement counts no inliers and has no stop
-/// reason of its own; those fields keep their defaults).
-IcpResult ToIcpResult(const PlaneRefinement& refined);
-
 /// `registration`, or the validator's own when it is null.
 const Registration& RegistrationOrOwn(const std::shared_ptr<const Registration>& registration);
 
