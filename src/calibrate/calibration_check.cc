@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <exception>
 #include <map>
 
 #include "calibrate/check_model.h"
@@ -125,15 +126,24 @@ std::vector<Item> CandidateItems(const check_model::Prepared& prepared, int min_
 std::vector<Candidate> RankCandidates(const check_model::Prepared& prepared, const std::vector<Item>& in,
                                       const std::vector<Item>& all, double current_cost, double huber) {
   std::vector<Candidate> ranked;
-  for (const Item& item : all) {
-    if (std::find(in.begin(), in.end(), item) != in.end()) continue;
-    std::vector<Item> free = in;
-    free.push_back(item);
-    Fit fit = check_model::FitItems(prepared.records, static_cast<int>(prepared.cameras.size()),
-                                    static_cast<int>(prepared.objects.size()), free, huber);
-    const double gain = current_cost - fit.cost;
-    ranked.push_back({item, std::move(fit), gain});
+  for (const Item& item : all)
+    if (std::find(in.begin(), in.end(), item) == in.end()) ranked.push_back({item, {}, 0.0});
+  // The fits are independent (each its own problem, solved on one thread): in parallel, the same results.
+  std::vector<std::exception_ptr> errors(ranked.size());
+#pragma omp parallel for schedule(dynamic, 1)
+  for (int i = 0; i < static_cast<int>(ranked.size()); ++i) {
+    try {
+      std::vector<Item> free = in;
+      free.push_back(ranked[i].item);
+      ranked[i].fit = check_model::FitItems(prepared.records, static_cast<int>(prepared.cameras.size()),
+                                            static_cast<int>(prepared.objects.size()), free, huber);
+      ranked[i].gain = current_cost - ranked[i].fit.cost;
+    } catch (...) {
+      errors[i] = std::current_exception();
+    }
   }
+  for (const std::exception_ptr& error : errors)
+    if (error) std::rethrow_exception(error);
   std::sort(ranked.begin(), ranked.end(), [](const Candidate& a, const Candidate& b) { return a.gain > b.gain; });
   return ranked;
 }

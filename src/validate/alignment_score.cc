@@ -19,7 +19,6 @@ AlignmentScore ScoreAlignment(const PointCloud& crop_model, const Rigid3d& T_sce
   const Eigen::Vector3d t = T_scene_model.translation();
   const double tau_sq = options.tau_m * options.tau_m;
   std::vector<char> claimed(scene.size(), 0);
-  std::vector<std::pair<size_t, float>> neighbours;
   size_t nearest = 0;
   double d2 = 0.0;
   for (const auto& p_model : crop_model) {
@@ -32,15 +31,11 @@ AlignmentScore ScoreAlignment(const PointCloud& crop_model, const Rigid3d& T_sce
       ++out.matched;
       continue;
     }
-    // The closest point is taken: walk the sorted radius-tau neighbourhood for the closest free one.
-    scene.Radius(p, options.tau_m, &neighbours);
-    for (const auto& [index, dist_sq] : neighbours) {
-      if (claimed[index] || dist_sq > tau_sq) continue;
-      claimed[index] = 1;
-      ++out.matched;
-      ++out.second_choice;
-      break;
-    }
+    // The closest point is taken: the closest free one in the radius-tau neighbourhood.
+    if (!scene.NearestUntaken(p, options.tau_m, claimed, tau_sq, &nearest)) continue;
+    claimed[nearest] = 1;
+    ++out.matched;
+    ++out.second_choice;
   }
   out.score = static_cast<double>(out.matched) / static_cast<double>(out.model_points);
   return out;

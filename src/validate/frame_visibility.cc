@@ -6,13 +6,6 @@
 
 namespace mocap {
 
-int NearestPixel(double x) {
-  if (!(std::abs(x) < 1e9)) return -1;
-  const int whole = static_cast<int>(x);  // toward zero
-  const double rest = x - whole;           // exact
-  return whole + (rest >= 0.5) - (rest <= -0.5);
-}
-
 VisibleInFrameCropSource::VisibleInFrameCropSource(const CropSource& base, const PinholeCamera& camera,
                                                    const DepthImage& depth_m, const LabelImage& mask,
                                                    uint16_t label_id, double occluder_margin_m)
@@ -36,12 +29,21 @@ ModelCrop VisibleInFrameCropSource::Visible(const Rigid3d& T_camera_model, Model
   // The rotation as a matrix once per crop: applying the quaternion costs twice the arithmetic per point.
   const Eigen::Matrix3d R = T_camera_model.rotation_matrix();
   const Eigen::Vector3d t = T_camera_model.translation();
+  // Without distortion, PinholeCamera::Project's arithmetic in place of its call (the same pixels).
+  const bool pinhole = !camera_.has_distortion();
   for (size_t i = 0; i < crop.points_model.size(); ++i) {
     const Eigen::Vector3d& p_model = crop.points_model[i];
     const Eigen::Vector3d p_camera = R * p_model + t;
-    const auto pixel = camera_.Project(p_camera);
-    if (!pixel) continue;
-    const int u = NearestPixel(pixel->x()), v = NearestPixel(pixel->y());
+    int u = -1, v = -1;
+    if (pinhole) {
+      if (p_camera.z() <= 0) continue;
+      u = NearestPixel(camera_.fx * (p_camera.x() / p_camera.z()) + camera_.cx);
+      v = NearestPixel(camera_.fy * (p_camera.y() / p_camera.z()) + camera_.cy);
+    } else {
+      const auto pixel = camera_.Project(p_camera);
+      if (!pixel) continue;
+      u = NearestPixel(pixel->x()), v = NearestPixel(pixel->y());
+    }
     if (!depth_m_.contains(u, v)) continue;  // outside the image: the frame cannot see it
     const float measured_m = depth_m_.at(u, v);
     const uint16_t owner = mask_.at(u, v);

@@ -5,6 +5,8 @@
 // occluder's surface nearer than the sensor's range, dark or shiny: no depth to compare) or that fall
 // outside the image. Depthless background pixels keep their points: they carry the outline. Without this, an object half hidden behind another scores about half, whatever its pose: the
 // scene cloud holds only its visible part, and a(M, S) counts every crop point.
+#include <cmath>
+
 #include "core/camera.h"
 #include "core/image.h"
 #include "validate/model_crop.h"
@@ -14,7 +16,12 @@ namespace mocap {
 /// The pixel index nearest to coordinate x, halves away from zero: std::lround without the libm call,
 /// which x86-64 without SSE4.1 does not inline and a crop makes per point. |x| >= 1e9 (a point grazing
 /// the camera plane) gives -1, which no image contains.
-int NearestPixel(double x);
+inline int NearestPixel(double x) {
+  if (!(std::abs(x) < 1e9)) return -1;
+  const int whole = static_cast<int>(x);  // toward zero
+  const double rest = x - whole;           // exact
+  return whole + (rest >= 0.5) - (rest <= -0.5);
+}
 
 class VisibleInFrameCropSource : public CropSource {
  public:

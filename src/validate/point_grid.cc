@@ -265,28 +265,54 @@ bool PointGrid::AnyWithin(const Eigen::Vector3d& query, double radius_m) const {
   return false;
 }
 
+bool PointGrid::RadiusCells(const Eigen::Vector3f& query, float radius_m, Eigen::Vector3i* lo, Eigen::Vector3i* hi) const {
+  const Eigen::Vector3f g = (query - origin_) * inv_cell_;
+  const float reach = radius_m * inv_cell_;
+  *lo = Eigen::Vector3i::Zero(), *hi = dims_.array() - 1;
+  if (g.cwiseAbs().maxCoeff() + reach < kMaxCellCoordinate) {
+    *lo = lo->cwiseMax(FloorToInt(g.array() - reach));
+    *hi = hi->cwiseMin(FloorToInt(g.array() + reach));
+  }
+  return (lo->array() <= hi->array()).all();
+}
+
 void PointGrid::Radius(const Eigen::Vector3d& query, double radius_m, std::vector<std::pair<size_t, float>>* out) const {
   out->clear();
   if (points_.empty()) return;
   const Eigen::Vector3f q = query.cast<float>();
   const float radius_sq = static_cast<float>(radius_m * radius_m);
-  const Eigen::Vector3f g = (q - origin_) * inv_cell_;
-  const float reach = static_cast<float>(radius_m) * inv_cell_;
-  Eigen::Vector3i lo = Eigen::Vector3i::Zero(), hi = dims_.array() - 1;
-  if (g.cwiseAbs().maxCoeff() + reach < kMaxCellCoordinate) {
-    lo = lo.cwiseMax(FloorToInt(g.array() - reach));
-    hi = hi.cwiseMin(FloorToInt(g.array() + reach));
-  }
-  if (!(lo.array() <= hi.array()).all()) return;
+  Eigen::Vector3i lo, hi;
+  if (!RadiusCells(q, static_cast<float>(radius_m), &lo, &hi)) return;
   for (int z = lo.z(); z <= hi.z(); ++z)
     for (int y = lo.y(); y <= hi.y(); ++y)
-      for (size_t c = CellIndex(lo.x(), y, z), end = CellIndex(hi.x(), y, z); c <= end; ++c)
-        for (uint32_t i = cell_start_[c]; i < cell_start_[c + 1]; ++i) {
-          const float d_sq = (points_[i] - q).squaredNorm();
-          if (d_sq < radius_sq) out->emplace_back(i, d_sq);
-        }
+      for (uint32_t i = cell_start_[CellIndex(lo.x(), y, z)], end = cell_start_[CellIndex(hi.x(), y, z) + 1]; i < end; ++i) {
+        const float d_sq = (points_[i] - q).squaredNorm();
+        if (d_sq < radius_sq) out->emplace_back(i, d_sq);
+      }
   std::sort(out->begin(), out->end(),
             [](const auto& a, const auto& b) { return a.second < b.second || (a.second == b.second && a.first < b.first); });
+}
+
+bool PointGrid::NearestUntaken(const Eigen::Vector3d& query, double radius_m, const std::vector<char>& taken,
+                               double max_distance_sq_m2, size_t* index) const {
+  if (points_.empty()) return false;
+  const Eigen::Vector3f q = query.cast<float>();
+  // Radius's float arithmetic, so that both agree on points at the radius and on ties.
+  const float radius_sq = static_cast<float>(radius_m * radius_m);
+  Eigen::Vector3i lo, hi;
+  if (!RadiusCells(q, static_cast<float>(radius_m), &lo, &hi)) return false;
+  float best_sq = radius_sq;
+  uint32_t best = kNone;
+  for (int z = lo.z(); z <= hi.z(); ++z)
+    for (int y = lo.y(); y <= hi.y(); ++y)
+      for (uint32_t i = cell_start_[CellIndex(lo.x(), y, z)], end = cell_start_[CellIndex(hi.x(), y, z) + 1]; i < end; ++i) {
+        const float d_sq = (points_[i] - q).squaredNorm();
+        if (!(d_sq < radius_sq) || taken[i] || static_cast<double>(d_sq) > max_distance_sq_m2) continue;
+        if (best == kNone || d_sq < best_sq || (d_sq == best_sq && i < best)) best_sq = d_sq, best = i;
+      }
+  if (best == kNone) return false;
+  *index = best;
+  return true;
 }
 
 }  // namespace mocap

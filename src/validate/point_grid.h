@@ -71,6 +71,12 @@ class PointGrid {
   /// All stored points strictly within `radius_m`, sorted by increasing distance, as (index, distance^2).
   void Radius(const Eigen::Vector3d& query, double radius_m, std::vector<std::pair<size_t, float>>* out) const;
 
+  /// The first entry of Radius's answer (nearest first, ties to the lower index) that is not `taken`
+  /// and lies within sqrt(max_distance_sq_m2) too, without collecting and sorting the neighbourhood (the
+  /// alignment score's fallback when a point's nearest is already claimed). False when there is none.
+  bool NearestUntaken(const Eigen::Vector3d& query, double radius_m, const std::vector<char>& taken,
+                      double max_distance_sq_m2, size_t* index) const;
+
   /// A search's running answer (internal): the nearest point so far (index kNone while none lies
   /// within the bound sq) and the nearest of the other points examined.
   struct Best {
@@ -89,6 +95,8 @@ class PointGrid {
                 const Eigen::Vector3i& hi, Best* best) const;
   /// The lowest ring around `cell` (any cell, inside the grid or not) that can hold a point.
   int FirstRing(const Eigen::Vector3i& cell) const;
+  /// The cells [lo, hi] that can hold a point within `radius_m` of `query` (RadiusCells false: none).
+  bool RadiusCells(const Eigen::Vector3f& query, float radius_m, Eigen::Vector3i* lo, Eigen::Vector3i* hi) const;
   void ComputeEmptyRings();
   /// Index into empty_rings_ of the block holding grid cell (x, y, z).
   size_t PaddedBlock(int x, int y, int z) const;

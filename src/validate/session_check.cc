@@ -283,8 +283,8 @@ void CheckTracked(const FrameInputs& in, const SessionReader& session, const Obj
   // moves, or keep a few degrees of its start about a weakly constrained axis), so it is checked
   // again as the per-frame mode does.
   if (step.mode == TrackMode::kTracking && seed_from_label && !ClearAgreement(r.check, model.options)) {
-    r.check = CheckLabelInFrame(in.depth_m, camera, *mask.mask, mask.value, r.T_camera_object_label, *model.crops,
-                                model.view_crops, model.options);
+    // The frame's cloud, already thinned, and its crops as above: what CheckLabelInFrame would make again.
+    r.check = CheckLabel(scene, r.T_camera_object_label, frame_model, model.view_crops, model.thinned_options);
     r.mode = "recheck";
   }
 }

@@ -77,6 +77,58 @@ TEST(ModelCrop, NearestPixelRoundsAsLround) {
   EXPECT_EQ(NearestPixel(std::nan("")), -1);
 }
 
+/// A crop source that shows every point of a cloud from anywhere.
+class EveryPoint : public CropSource {
+ public:
+  explicit EveryPoint(PointCloud points) : points_(std::move(points)) {}
+  ModelCrop Crop(const Rigid3d& T_camera_model) const override { return {points_, {}, T_camera_model, {}}; }
+  const PointCloud& surface_model() const override { return points_; }
+
+ private:
+  PointCloud points_;
+};
+
+TEST(VisibleInFrame, KeepsThePointsThatProjectPlacesOnAVisiblePixel) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  PointCloud points;
+  for (int i = 0; i < 4000; ++i) points.push_back({0.3 * unit(rng), 0.3 * unit(rng), 0.3 * unit(rng)});
+  const EveryPoint source(points);
+  DepthImage depth_m(640, 480);
+  LabelImage mask(640, 480);
+  for (float& d : depth_m.data) d = unit(rng) < -0.8 ? 0.0f : static_cast<float>(0.9 + 0.3 * unit(rng));
+  for (uint16_t& m : mask.data) m = static_cast<uint16_t>(unit(rng) < 0 ? 1 : unit(rng) < 0 ? 2 : 0);
+  PinholeCamera distorted = testing::Kinect();
+  distorted.dist = {0.1, -0.05, 0.001, 0.002, 0, 0, 0, 0};
+  int kept = 0, left = 0;
+  for (const PinholeCamera& camera : {testing::Kinect(), distorted}) {
+    const VisibleInFrameCropSource visible(source, camera, depth_m, mask, 1, 0.02);
+    for (const double z_m : {1.0, 0.2}) {  // at 0.2 m some points lie behind the camera
+      const Rigid3d T_camera_model(Eigen::Quaterniond(Eigen::AngleAxisd(0.3, Eigen::Vector3d(1, 2, 3).normalized())),
+                                   Eigen::Vector3d(0.02, -0.03, z_m));
+      // The rule of frame_visibility.h, through the camera's own projection and std::lround.
+      PointCloud expected;
+      for (const auto& p_model : points) {
+        const Eigen::Vector3d p = T_camera_model * p_model;
+        const auto pixel = camera.Project(p);
+        if (!pixel) continue;
+        const int u = static_cast<int>(std::lround(pixel->x())), v = static_cast<int>(std::lround(pixel->y()));
+        if (!depth_m.contains(u, v)) continue;
+        const float d = depth_m.at(u, v);
+        if (mask.at(u, v) != 0 && !(d > 0)) continue;
+        if (mask.at(u, v) != 1 && d > 0 && d < p.z() - 0.02) continue;
+        expected.push_back(p_model);
+      }
+      const PointCloud got = visible.CropPoints(T_camera_model).points_model;
+      ASSERT_EQ(got.size(), expected.size());
+      for (size_t i = 0; i < got.size(); ++i) ASSERT_EQ(got[i], expected[i]) << i;
+      kept += static_cast<int>(got.size()), left += static_cast<int>(points.size() - got.size());
+    }
+  }
+  EXPECT_GT(kept, 2000);  // both answers occur
+  EXPECT_GT(left, 2000);
+}
+
 TEST(ModelCrop, MeshCheckRejectsBadIndices) {
   TriangleMesh mesh = testing::BoxMesh({0.1, 0.1, 0.1});
   mesh.triangles.push_back({0, 1, 99});

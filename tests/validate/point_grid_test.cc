@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <limits>
+#include <random>
 
 #include "synthetic.h"
 
@@ -93,6 +94,35 @@ TEST(PointGrid, RadiusMatchesBruteForceSorted) {
     for (size_t k = 1; k < out.size(); ++k) EXPECT_LE(out[k - 1].second, out[k].second);
     for (const auto& [index, d2] : out) EXPECT_NEAR((grid.point(index) - q).squaredNorm(), d2, 1e-5 * d2 + 1e-10);
   }
+}
+
+TEST(PointGrid, NearestUntakenIsTheFirstFreeEntryOfRadius) {
+  std::mt19937 rng(10);
+  const PointCloud cloud = SceneLike(rng);
+  const PointGrid grid(cloud);
+  std::vector<char> taken(grid.size(), 0);
+  std::bernoulli_distribution take(0.6);
+  for (char& t : taken) t = take(rng);
+  std::vector<std::pair<size_t, float>> near;
+  int found = 0, none = 0;
+  for (const auto& q : testing::AddNoise(PointCloud(cloud.begin(), cloud.begin() + 400), rng, 0.004))
+    for (const double max_sq : {1e-4, 4e-6}) {
+      grid.Radius(q, 0.01, &near);
+      size_t expected = PointGrid::kNoHint;
+      for (const auto& [index, d2] : near)
+        if (!taken[index] && static_cast<double>(d2) <= max_sq) {
+          expected = index;
+          break;
+        }
+      size_t index = PointGrid::kNoHint;
+      ASSERT_EQ(grid.NearestUntaken(q, 0.01, taken, max_sq, &index), expected != PointGrid::kNoHint) << q.transpose();
+      EXPECT_EQ(index, expected);
+      (expected == PointGrid::kNoHint ? none : found) += 1;
+    }
+  EXPECT_GT(found, 300);  // both answers occur
+  EXPECT_GT(none, 20);
+  size_t index = 0;
+  EXPECT_FALSE(PointGrid(PointCloud{}).NearestUntaken({0, 0, 0}, 0.01, {}, 1.0, &index));
 }
 
 TEST(PointGrid, AnyWithinAgreesWithNearest) {
