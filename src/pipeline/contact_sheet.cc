@@ -6,6 +6,7 @@
 
 #include "core/check.h"
 #include "pipeline/label_run.h"
+#include "session/image_io.h"
 #include "session/reader.h"
 
 namespace mocap::pipeline {
@@ -17,15 +18,14 @@ cv::Vec3b InstanceColor(int id) {  // BGR, well separated for small ids
   return palette[static_cast<size_t>(id) % (sizeof palette / sizeof palette[0])];
 }
 
-cv::Mat Overlay(const cv::Mat& bgr, const cv::Mat& ids, double alpha) {
+cv::Mat Overlay(const cv::Mat& bgr, const LabelImage& ids, double alpha) {
   cv::Mat out = bgr.clone();
-  for (int v = 0; v < ids.rows; ++v)
-    for (int u = 0; u < ids.cols; ++u) {
-      const uint16_t id = ids.at<uint16_t>(v, u);
+  for (int v = 0; v < ids.height; ++v)
+    for (int u = 0; u < ids.width; ++u) {
+      const uint16_t id = ids.at(u, v);
       if (id == 0) continue;
-      const bool edge = (u > 0 && ids.at<uint16_t>(v, u - 1) != id) || (v > 0 && ids.at<uint16_t>(v - 1, u) != id) ||
-                        (u + 1 < ids.cols && ids.at<uint16_t>(v, u + 1) != id) ||
-                        (v + 1 < ids.rows && ids.at<uint16_t>(v + 1, u) != id);
+      const bool edge = (u > 0 && ids.at(u - 1, v) != id) || (v > 0 && ids.at(u, v - 1) != id) ||
+                        (u + 1 < ids.width && ids.at(u + 1, v) != id) || (v + 1 < ids.height && ids.at(u, v + 1) != id);
       const cv::Vec3b c = InstanceColor(id);
       cv::Vec3b& p = out.at<cv::Vec3b>(v, u);
       const double a = edge ? 1.0 : alpha;
@@ -53,9 +53,9 @@ void WriteContactSheet(const SessionReader& session, const std::string& camera, 
     const int64_t index = cells == 1 ? 0 : c * (frames - 1) / (cells - 1);
     const cv::Mat bgr = session.LoadColor(camera, index);
     const std::filesystem::path ids_path = LabelRunLayout{labels_dir}.InstancePng(camera, index);
-    const cv::Mat ids = cv::imread(ids_path.string(), cv::IMREAD_UNCHANGED);
-    if (bgr.empty() || ids.empty() || ids.size() != bgr.size() || ids.type() != CV_16UC1)
-      throw InputError(ids_path.string(), "missing colour frame or label image for the contact sheet");
+    const LabelImage ids = ReadIdImage(ids_path);
+    if (bgr.empty() || ids.width != bgr.cols || ids.height != bgr.rows)
+      throw InputError(ids_path.string(), "missing colour frame, or a label image of another size, for the contact sheet");
     cv::Mat cell;
     const double scale = double(options.cell_width_px) / bgr.cols;
     cv::resize(Overlay(bgr, ids, options.alpha), cell, cv::Size(), scale, scale, cv::INTER_AREA);

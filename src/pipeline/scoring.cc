@@ -5,11 +5,11 @@
 #include <map>
 #include <utility>
 #include <nlohmann/json.hpp>
-#include <opencv2/imgcodecs.hpp>
 
 #include "core/check.h"
 #include "core/rigid3.h"
 #include "session/depth_in_color.h"
+#include "session/image_io.h"
 #include "session/manifest.h"
 #include "session/reader.h"
 #include "pipeline/json_read.h"
@@ -38,22 +38,15 @@ TruthPoses ReadTruthPoses(const fs::path& truth_dir) {
   return poses;
 }
 
-cv::Mat ReadLabelPng(const fs::path& path) {
-  cv::Mat image = cv::imread(path.string(), cv::IMREAD_UNCHANGED);
-  if (image.empty() || image.type() != CV_16UC1) throw InputError(path.string(), "missing or not a 16-bit instance PNG");
-  return image;
-}
-
 /// IoU of the label mask (`in_label(u, v)`, over `size`'s pixels) and (truth == true_value); -1 when both
 /// are empty.
 template <typename InLabel>
-double MaskIou(const cv::Mat& size, InLabel in_label, const cv::Mat& truth, int true_value, RecordScore& score) {
+double MaskIou(const LabelImage& size, InLabel in_label, const LabelImage& truth, int true_value, RecordScore& score) {
   int64_t inter = 0, uni = 0;
   score.true_pixels = score.label_pixels = 0;
-  for (int v = 0; v < size.rows; ++v) {
-    const auto* t = truth.ptr<uint16_t>(v);
-    for (int u = 0; u < size.cols; ++u) {
-      const bool a = in_label(u, v), b = t[u] == true_value;
+  for (int v = 0; v < size.height; ++v) {
+    for (int u = 0; u < size.width; ++u) {
+      const bool a = in_label(u, v), b = truth.at(u, v) == true_value;
       inter += a && b, uni += a || b;
       score.label_pixels += a, score.true_pixels += b;
     }
@@ -105,16 +98,16 @@ void ScoreFrame(const std::vector<const LabelRecord*>& records, const TruthPoses
                       RotationDistanceDeg(label, t.T_camera_mesh)});
   }
   if (scored.empty()) return;
-  const cv::Mat label_ids = ReadLabelPng(labels.InstancePng(camera, index));
-  const cv::Mat true_ids = ReadLabelPng(sim::TruthInstancePng(truth_dir, frame));
-  if (label_ids.size() != true_ids.size())
+  const LabelImage label_ids = ReadIdImage(labels.InstancePng(camera, index));
+  const LabelImage true_ids = ReadIdImage(sim::TruthInstancePng(truth_dir, frame));
+  if (label_ids.width != true_ids.width || label_ids.height != true_ids.height)
     throw InputError(labels.dir.string(), Str("instance image of frame ", index, " differs in size from the truth's"));
   std::map<uint16_t, Image<uint8_t>> measured;
   if (masks && session) measured = LabelVisibleMasks(*session, *masks, camera, index, poses);
   for (size_t i = 0; i < scored.size(); ++i) {
     RecordScore& s = scored[i];
     const int true_id = frame_truth->second.at(s.object).id;
-    s.iou_model = MaskIou(label_ids, [&](int u, int v) { return label_ids.at<uint16_t>(v, u) == poses[i].instance; },
+    s.iou_model = MaskIou(label_ids, [&](int u, int v) { return label_ids.at(u, v) == poses[i].instance; },
                           true_ids, true_id, s);
     s.iou = s.iou_model;
     if (masks && session) {

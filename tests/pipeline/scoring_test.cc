@@ -105,6 +105,24 @@ TEST_F(ScoringTest, RecordWithoutTruthIsAnError) {
   EXPECT_THROW(ScoreLabels(root_ / "labels", root_ / "truth"), InputError);
 }
 
+TEST_F(ScoringTest, ACutOrColourInstanceImageIsAnErrorNamingIt) {
+  WriteLabels({Record(0, "box", {0, 0, 0}, {0.1, 0.0, 1.0})});
+  const fs::path png = root_ / "labels" / "cam" / "instance" / "000000.png";
+  const auto expect_error_naming = [&](const std::string& what) {
+    try {
+      ScoreLabels(root_ / "labels", root_ / "truth");
+      FAIL() << "no error for " << what;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(png.string()), std::string::npos) << what << ": " << e.what();
+    }
+  };
+  const uintmax_t size = fs::file_size(png);
+  fs::resize_file(png, size / 2);
+  expect_error_naming("a cut PNG");
+  ASSERT_TRUE(cv::imwrite(png.string(), cv::Mat(48, 64, CV_8UC3, cv::Scalar(1, 2, 3))));
+  expect_error_naming("a colour PNG");
+}
+
 TEST(Scoring, PercentileInterpolatesBetweenOrderStatistics) {
   EXPECT_EQ(Percentile({}, 50), 0);
   EXPECT_DOUBLE_EQ(Percentile({3, 1, 2, 4}, 50), 2.5);
