@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
 #include <thread>
@@ -185,16 +186,19 @@ void ExpectSessionMatchesSources(const TwoCameraResult& result, const SourceLog&
     EXPECT_LE(sample.stamp_ns, result.stop_ns);
   }
   // A clock fit per stream, each onto that device's clock: 60 MHz, 0.125 ms, and 100 tracker frames/s.
-  // The simulated sources stamp a frame when they hand it over; a recording of a second or two on a host
-  // loaded by the sanitizers falls behind 30 Hz for its whole length, which bends its fit by 5-40 %.
-  // There the check tells the three clocks apart (they differ 600-fold and more); the 60 s recording
-  // holds each to 5 %.
-  const double tolerance = result.stop_ns - result.start_ns >= 10'000'000'000 ? 0.05 : 0.5;
+  // The simulated sources stamp a frame when they hand it over; a recording of a second or two on a
+  // loaded host (the sanitizers, or a neighbour) falls behind 30 Hz and catches up in bursts, which bent
+  // its fit by 5-40 % under the sanitizers and by a factor of 2.8 once on a loaded 2-core host. There the
+  // check tells the three clocks apart (they differ 600-fold and more: a factor of 4 either way cannot
+  // mistake one for another); the 60 s recording holds each to 5 %.
+  const bool long_recording = result.stop_ns - result.start_ns >= 10'000'000'000;
   const auto& fits = session.manifest().clock_fits;
   ASSERT_TRUE(fits.count("kinect1") && fits.count("kinect2") && fits.count("ndi"));
-  EXPECT_NEAR(fits.at("kinect1").ns_per_tick, 1e9 / 60e6, tolerance * 1e9 / 60e6);
-  EXPECT_NEAR(fits.at("kinect2").ns_per_tick, 125'000, tolerance * 125'000);
-  EXPECT_NEAR(fits.at("ndi").ns_per_tick, 1e7, tolerance * 1e7);
+  for (const auto& [stream, ns_per_tick] : {std::pair<std::string, double>{"kinect1", 1e9 / 60e6}, {"kinect2", 125'000.0}, {"ndi", 1e7}}) {
+    const double fitted = fits.at(stream).ns_per_tick;
+    if (long_recording) EXPECT_NEAR(fitted, ns_per_tick, 0.05 * ns_per_tick) << stream;
+    else EXPECT_LT(std::abs(std::log(fitted / ns_per_tick)), std::log(4.0)) << stream << ": " << fitted << " ns per tick";
+  }
 }
 
 TwoCameraResult RecordAndCheckTwoCameras(const std::string& name, double seconds, int frame_queue, int decode_every) {
