@@ -21,11 +21,25 @@ constexpr float kSlackCells = 1e-4f;
 /// the integer cell index; such queries scan every point instead.
 constexpr float kMaxCellCoordinate = 1e6f;
 
-/// floor() of cell coordinates without the libm call (x86-64 without SSE4.1 does not inline floorf,
-/// and a query floors up to nine of them). Precondition: |x| < 2^31.
-Eigen::Vector3i FloorToInt(const Eigen::Vector3f& x) {
-  const Eigen::Vector3i truncated = x.cast<int>();
-  return truncated - (x.array() < truncated.cast<float>().array()).cast<int>().matrix();
+/// floor() of a cell coordinate without the libm call (x86-64 without SSE4.1 does not inline floorf,
+/// and a query floors up to nine of them). Scalar and inline: the compiler kept Eigen's integer
+/// array expressions of three coefficients as calls. Precondition: |x| < 2^31.
+inline int FloorCell(float x) {
+  const int truncated = static_cast<int>(x);
+  return truncated - (x < static_cast<float>(truncated) ? 1 : 0);
+}
+
+inline Eigen::Vector3i FloorCells(const Eigen::Vector3f& x) {
+  return Eigen::Vector3i(FloorCell(x.x()), FloorCell(x.y()), FloorCell(x.z()));
+}
+
+/// The cells of the box g +- reach (in cells), clipped to [lo_bound, hi_bound].
+inline void BoxCells(const Eigen::Vector3f& g, float reach, const Eigen::Vector3i& lo_bound,
+                     const Eigen::Vector3i& hi_bound, Eigen::Vector3i* lo, Eigen::Vector3i* hi) {
+  for (int a = 0; a < 3; ++a) {
+    (*lo)[a] = std::max(lo_bound[a], FloorCell(g[a] - reach));
+    (*hi)[a] = std::min(hi_bound[a], FloorCell(g[a] + reach));
+  }
 }
 
 /// Offers point `index` at `d_sq` to a search's answer: it becomes the nearest or may be the second.
@@ -192,7 +206,7 @@ float PointGrid::Search(const Eigen::Vector3f& query, float margin_m, Best* best
     for (uint32_t i = 0; i < points_.size(); ++i) Consider((points_[i] - query).squaredNorm(), i, best);
     return std::numeric_limits<float>::infinity();
   }
-  const Eigen::Vector3i cell = FloorToInt(g);
+  const Eigen::Vector3i cell = FloorCells(g);
   const Eigen::Vector3f frac = g - cell.cast<float>();
   // Cells from the query to the nearest face of its own cell: ring r >= 1 lies at least r - 1 + face away.
   const float face = std::min(frac.minCoeff(), 1.0f - frac.maxCoeff());
@@ -203,8 +217,9 @@ float PointGrid::Search(const Eigen::Vector3f& query, float margin_m, Best* best
     if (lower_cells * cell_m_ >= radius_m) return radius_m;
     // Only cells that intersect the box around that ball can hold such a point.
     const float reach = std::min(radius_m * inv_cell_, 2 * kMaxCellCoordinate);
-    const Eigen::Vector3i lo = (cell.array() - ring).max(FloorToInt(g.array() - reach).array()).max(0);
-    const Eigen::Vector3i hi = (cell.array() + ring).min(FloorToInt(g.array() + reach).array()).min(dims_.array() - 1);
+    Eigen::Vector3i ring_lo, ring_hi, lo, hi;
+    for (int a = 0; a < 3; ++a) ring_lo[a] = std::max(cell[a] - ring, 0), ring_hi[a] = std::min(cell[a] + ring, dims_[a] - 1);
+    BoxCells(g, reach, ring_lo, ring_hi, &lo, &hi);
     if ((lo.array() <= hi.array()).all()) ScanRing(query, cell, ring, lo, hi, best);
     if ((cell.array() - ring <= 0).all() && (cell.array() + ring >= dims_.array() - 1).all())
       return std::sqrt(best->sq) + margin_m;
@@ -255,8 +270,8 @@ bool PointGrid::AnyWithin(const Eigen::Vector3d& query, double radius_m) const {
     double distance_sq = 0;
     return Nearest(query, radius_m, &index, &distance_sq);
   }
-  const Eigen::Vector3i lo = Eigen::Vector3i::Zero().cwiseMax(FloorToInt(g.array() - reach));
-  const Eigen::Vector3i hi = Eigen::Vector3i(dims_.array() - 1).cwiseMin(FloorToInt(g.array() + reach));
+  Eigen::Vector3i lo, hi;
+  BoxCells(g, reach, Eigen::Vector3i::Zero(), dims_ - Eigen::Vector3i::Ones(), &lo, &hi);
   if (!(lo.array() <= hi.array()).all()) return false;
   for (int z = lo.z(); z <= hi.z(); ++z)
     for (int y = lo.y(); y <= hi.y(); ++y)
@@ -268,11 +283,8 @@ bool PointGrid::AnyWithin(const Eigen::Vector3d& query, double radius_m) const {
 bool PointGrid::RadiusCells(const Eigen::Vector3f& query, float radius_m, Eigen::Vector3i* lo, Eigen::Vector3i* hi) const {
   const Eigen::Vector3f g = (query - origin_) * inv_cell_;
   const float reach = radius_m * inv_cell_;
-  *lo = Eigen::Vector3i::Zero(), *hi = dims_.array() - 1;
-  if (g.cwiseAbs().maxCoeff() + reach < kMaxCellCoordinate) {
-    *lo = lo->cwiseMax(FloorToInt(g.array() - reach));
-    *hi = hi->cwiseMin(FloorToInt(g.array() + reach));
-  }
+  *lo = Eigen::Vector3i::Zero(), *hi = dims_ - Eigen::Vector3i::Ones();
+  if (g.cwiseAbs().maxCoeff() + reach < kMaxCellCoordinate) BoxCells(g, reach, *lo, *hi, lo, hi);
   return (lo->array() <= hi->array()).all();
 }
 
