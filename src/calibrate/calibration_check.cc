@@ -3,12 +3,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <exception>
 #include <map>
 
 #include "calibrate/check_model.h"
 #include "calibrate/robust_stats.h"
 #include "core/check.h"
+#include "core/parallel_for.h"
 
 namespace mocap {
 
@@ -129,21 +129,13 @@ std::vector<Candidate> RankCandidates(const check_model::Prepared& prepared, con
   for (const Item& item : all)
     if (std::find(in.begin(), in.end(), item) == in.end()) ranked.push_back({item, {}, 0.0});
   // The fits are independent (each its own problem, solved on one thread): in parallel, the same results.
-  std::vector<std::exception_ptr> errors(ranked.size());
-#pragma omp parallel for schedule(dynamic, 1)
-  for (int i = 0; i < static_cast<int>(ranked.size()); ++i) {
-    try {
-      std::vector<Item> free = in;
-      free.push_back(ranked[i].item);
-      ranked[i].fit = check_model::FitItems(prepared.records, static_cast<int>(prepared.cameras.size()),
-                                            static_cast<int>(prepared.objects.size()), free, huber);
-      ranked[i].gain = current_cost - ranked[i].fit.cost;
-    } catch (...) {
-      errors[i] = std::current_exception();
-    }
-  }
-  for (const std::exception_ptr& error : errors)
-    if (error) std::rethrow_exception(error);
+  ParallelFor(static_cast<int>(ranked.size()), 0, [&](int i) {
+    std::vector<Item> free = in;
+    free.push_back(ranked[i].item);
+    ranked[i].fit = check_model::FitItems(prepared.records, static_cast<int>(prepared.cameras.size()),
+                                          static_cast<int>(prepared.objects.size()), free, huber);
+    ranked[i].gain = current_cost - ranked[i].fit.cost;
+  });
   std::sort(ranked.begin(), ranked.end(), [](const Candidate& a, const Candidate& b) { return a.gain > b.gain; });
   return ranked;
 }

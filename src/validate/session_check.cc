@@ -3,13 +3,12 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <exception>
 #include <memory>
 #include <mutex>
 #include <tuple>
-#include <omp.h>
 
 #include "core/check.h"
+#include "core/parallel_for.h"
 #include "session/depth_in_color.h"
 #include "session/image_io.h"
 #include "render/mesh.h"
@@ -138,25 +137,6 @@ struct ObjectModel {
   std::unique_ptr<CachedCropSource> crops;  ///< each view's crop once, from `source`
   std::vector<ModelCrop> view_crops;  ///< for the view-sphere seed
 };
-
-/// Runs body(i) for i in [0, n) on OpenMP threads; after all finish, the exception of the lowest i that
-/// threw is rethrown (the same error whatever the threads' timing).
-template <typename Body>
-void ParallelFor(int n, int threads, Body body) {
-  std::exception_ptr error;
-  int error_index = n;
-  std::mutex mutex;
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads > 0 ? threads : omp_get_max_threads())
-  for (int i = 0; i < n; ++i) {
-    try {
-      body(i);
-    } catch (...) {
-      std::lock_guard lock(mutex);
-      if (i < error_index) error = std::current_exception(), error_index = i;
-    }
-  }
-  if (error) std::rethrow_exception(error);
-}
 
 ObjectModel LoadModel(const ValidationObject& object, const SessionCheckOptions& options) {
   const Mesh mesh = LoadMesh(object.mesh_path.string(), object.unit_scale_to_m);
