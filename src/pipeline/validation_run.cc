@@ -44,6 +44,7 @@ nlohmann::json ToJson(const RecordCheck& r) {
                       {"reason_code", ToString(c.reason_code)},
                       {"reason", c.reason},
                       {"scene_points", c.scene_points},
+                      {"occluder_pixels", c.occluder_pixels},
                       {"label_rvec", Vec(r.T_camera_object_label.rvec())},
                       {"label_t_m", Vec(r.T_camera_object_label.translation())}};
   if (r.depth_offset_ns != 0) {  // depth taken apart from colour: the label moved to the depth's exposure, or not
@@ -101,6 +102,7 @@ RecordCheck RecordCheckFromJson(const nlohmann::json& j, const std::string& wher
   c.reason_code = ParseEnum<VerdictReason>(f, "reason_code", VerdictReason::kCameraMountOff);
   c.reason = f.String("reason");
   c.scene_points = static_cast<int>(f.Integer("scene_points"));
+  if (f.Has("occluder_pixels")) c.occluder_pixels = f.Integer("occluder_pixels");  // written since the depth cut
   c.estimated = f.Bool("estimated");
   if (c.estimated) {
     c.T_camera_object_segicp = Rigid3d::FromRvec(f.Vector3("segicp_rvec"), f.Vector3("segicp_t_m"));

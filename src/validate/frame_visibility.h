@@ -6,6 +6,8 @@
 // outside the image. Depthless background pixels keep their points: they carry the outline. Without this, an object half hidden behind another scores about half, whatever its pose: the
 // scene cloud holds only its visible part, and a(M, S) counts every crop point.
 #include <cmath>
+#include <cstdint>
+#include <optional>
 
 #include "core/camera.h"
 #include "core/image.h"
@@ -47,5 +49,25 @@ class VisibleInFrameCropSource : public CropSource {
   uint16_t label_id_;
   double margin_m_;
 };
+
+/// The object's pixels as the frame's measured depth shows them (the issue's "cut the scene cloud with what
+/// the measured depth shows"): the label's mask is rendered from the known objects alone, so a hand or a
+/// tool between camera and object lies inside it, and its points would be taken for the object's.
+struct OccluderCut {
+  LabelImage mask;     ///< the given mask with the cut pixels set to 0 (background)
+  int64_t pixels = 0;  ///< pixels of the object cut
+};
+
+/// Cuts from `mask` the pixels of `label_id` whose measured depth is nearer than the label's model surface
+/// there by more than `margin_m`. The model surface at a pixel is the nearest point of `label_crop` (the
+/// crop at the label's pose, its T_camera_model) projecting into the pixel's cell or the eight around it;
+/// a cell is one crop point's footprint at the crop's nearest depth (`crop_pixel_m` across), so an object
+/// pixel has crop points about it, and the nearest of nine cells errs toward keeping a pixel. A label a
+/// centimetre or two off still keeps the object's own points: only what lies `margin_m` before its surface
+/// goes. Pixels without depth or without a crop point about them are kept. nullopt when nothing is cut (or
+/// the crop is empty). Precondition: depth, mask and camera have the same size.
+std::optional<OccluderCut> CutOccluders(const DepthImage& depth_m, const PinholeCamera& camera, const LabelImage& mask,
+                                        uint16_t label_id, const ModelCrop& label_crop, double crop_pixel_m,
+                                        double margin_m);
 
 }  // namespace mocap

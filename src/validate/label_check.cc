@@ -71,9 +71,9 @@ void RefineEstimate(const PointGrid& grid, const CropSource& model, const Valida
 }
 
 /// Label score, errors, success and verdict once an estimate (or none) is known; `made` as RefineEstimate.
-void Finish(const PointGrid& grid, const Rigid3d& label, const CropSource& model, const ValidateOptions& options,
-            LabelCheck* check, const TrackStep* made = nullptr) {
-  check->label_score = ScoreAlignment(model.CropPoints(label).points_model, label, grid, options.alignment).score;
+void Finish(const PointGrid& grid, const Rigid3d& label, const CropSource& model, const CropSource& label_model,
+            const ValidateOptions& options, LabelCheck* check, const TrackStep* made = nullptr) {
+  check->label_score = ScoreAlignment(label_model.CropPoints(label).points_model, label, grid, options.alignment).score;
   if (check->estimated) {
     RefineEstimate(grid, model, options, made, check);
     ScoreEstimate(label, options, check);
@@ -269,7 +269,8 @@ void ApplyDepthResolution(const DepthResolution& resolution, const ValidateOptio
 }
 
 LabelCheck CheckLabel(const PointCloud& scene_camera, const Rigid3d& T_camera_object_label, const CropSource& model,
-                      const std::vector<ModelCrop>& view_crops, const ValidateOptions& options) {
+                      const std::vector<ModelCrop>& view_crops, const ValidateOptions& options,
+                      const CropSource* label_model) {
   const PointCloud scene = VoxelDownsample(scene_camera, options.scene_voxel_m);
   if (static_cast<int>(scene.size()) < options.min_scene_points)
     return BadInputCheck(VerdictReason::kTooFewPoints,
@@ -289,12 +290,13 @@ LabelCheck CheckLabel(const PointCloud& scene_camera, const Rigid3d& T_camera_ob
     check.segicp_score = r.score;
     check.icp = r.refine;
   }
-  Finish(grid, T_camera_object_label, model, options, &check);
+  Finish(grid, T_camera_object_label, model, label_model ? *label_model : model, options, &check);
   return check;
 }
 
 LabelCheck CheckLabelWithTrack(const PointCloud& scene_camera, const Rigid3d& T_camera_object_label,
-                               const CropSource& model, const TrackStep& track, const ValidateOptions& options) {
+                               const CropSource& model, const TrackStep& track, const ValidateOptions& options,
+                               const CropSource* label_model) {
   const PointCloud scene = VoxelDownsample(scene_camera, options.scene_voxel_m);
   if (static_cast<int>(scene.size()) < options.min_scene_points)
     return BadInputCheck(VerdictReason::kTooFewPoints,
@@ -315,7 +317,7 @@ LabelCheck CheckLabelWithTrack(const PointCloud& scene_camera, const Rigid3d& T_
     check.segicp_score = track.score;
     check.icp = track.icp;
   }
-  Finish(grid, T_camera_object_label, model, options, &check,
+  Finish(grid, T_camera_object_label, model, label_model ? *label_model : model, options, &check,
          same_scene && track.measured && track.refinement ? &track : nullptr);
   return check;
 }
@@ -338,10 +340,27 @@ LabelCheck CheckLabelInFrame(const DepthImage& depth_m, const PinholeCamera& cam
                              uint16_t label_id, const Rigid3d& T_camera_object_label, const CropSource& model,
                              const std::vector<ModelCrop>& view_crops, const ValidateOptions& options) {
   if (auto bad = CheckFrameInput(depth_m, camera, mask, label_id)) return *bad;
-  const PointCloud scene = DepthToPointsMasked(depth_m, camera, mask, label_id);
-  if (options.occluder_margin_m <= 0) return CheckLabel(scene, T_camera_object_label, model, view_crops, options);
-  const VisibleInFrameCropSource visible(model, camera, depth_m, mask, label_id, options.occluder_margin_m);
-  return CheckLabel(scene, T_camera_object_label, visible, view_crops, options);
+  if (options.occluder_margin_m <= 0)
+    return CheckLabel(DepthToPointsMasked(depth_m, camera, mask, label_id), T_camera_object_label, model, view_crops,
+                      options);
+  const std::optional<OccluderCut> cut =
+      CutOccludersAtLabel(depth_m, camera, mask, label_id, T_camera_object_label, model, options);
+  const LabelImage& object_mask = cut ? cut->mask : mask;
+  const PointCloud scene = DepthToPointsMasked(depth_m, camera, object_mask, label_id);
+  const VisibleInFrameCropSource visible(model, camera, depth_m, object_mask, label_id, options.occluder_margin_m);
+  const VisibleInFrameCropSource as_masked(model, camera, depth_m, mask, label_id, options.occluder_margin_m);
+  LabelCheck check = CheckLabel(scene, T_camera_object_label, visible, view_crops, options, &as_masked);
+  check.occluder_pixels = cut ? cut->pixels : 0;
+  return check;
+}
+
+std::optional<OccluderCut> CutOccludersAtLabel(const DepthImage& depth_m, const PinholeCamera& camera,
+                                               const LabelImage& mask, uint16_t label_id,
+                                               const Rigid3d& T_camera_object_label, const CropSource& model,
+                                               const ValidateOptions& options) {
+  if (options.occluder_margin_m <= 0) return std::nullopt;
+  return CutOccluders(depth_m, camera, mask, label_id, model.CropPoints(T_camera_object_label), options.crop.pixel_m,
+                      options.occluder_margin_m);
 }
 
 }  // namespace mocap

@@ -10,6 +10,7 @@
 #include "core/camera.h"
 #include "core/image.h"
 #include "validate/acquisition.h"
+#include "validate/frame_visibility.h"
 #include "validate/observability.h"
 #include "validate/tracker.h"
 #include "validate/validate_options.h"
@@ -52,6 +53,9 @@ struct LabelCheck {
   VerdictReason reason_code = VerdictReason::kNoReliableEstimate;
   std::string reason;                ///< one line for reports
   int scene_points = 0;              ///< after thinning
+  /// Pixels of the object's mask its measured depth showed to be something in front (CutOccluders),
+  /// left out of the scene cloud and the crops.
+  int64_t occluder_pixels = 0;
   bool estimated = false;            ///< SegICP produced a pose (reliable or not)
   Rigid3d T_camera_object_segicp;
   double segicp_score = 0.0;         ///< a(M, S) of the estimate
@@ -83,16 +87,21 @@ struct LabelCheck {
 ObservedDifference JudgedDifference(const LabelCheck& c);
 
 /// Checks one label against the object's scene cloud (camera frame, from the mask). Runs the acquisition
-/// (seeded as options.check_seed says; `view_crops` are used for the view-sphere seed).
+/// (seeded as options.check_seed says; `view_crops` are used for the view-sphere seed). `label_model`:
+/// the crops the label's own score takes (null: `model`): the frame's mask as given where `model` and the
+/// scene are cut by the depth (CutOccluders), so that a label behind the object's measured surface, whose
+/// object the cut takes for something in front, still scores low.
 LabelCheck CheckLabel(const PointCloud& scene_camera, const Rigid3d& T_camera_object_label, const CropSource& model,
-                      const std::vector<ModelCrop>& view_crops, const ValidateOptions& options);
+                      const std::vector<ModelCrop>& view_crops, const ValidateOptions& options,
+                      const CropSource* label_model = nullptr);
 
 /// Same, with the estimate of a tracker that already ran on this frame (the sequence mode): `track` is
 /// the step the tracker made on the same `scene_camera` with the same `model` and options. Its index of
 /// the scene and its converged point-to-plane refinement, when it kept them (TrackStep), are used
 /// instead of being made again.
 LabelCheck CheckLabelWithTrack(const PointCloud& scene_camera, const Rigid3d& T_camera_object_label,
-                               const CropSource& model, const TrackStep& track, const ValidateOptions& options);
+                               const CropSource& model, const TrackStep& track, const ValidateOptions& options,
+                               const CropSource* label_model = nullptr);
 
 /// From a frame: the object's scene cloud is cut from `depth_m` by `mask == label_id`. Bad input (no
 /// depth, a mask of another size, an empty mask, too few points) gives a suspect verdict with the
@@ -105,6 +114,14 @@ LabelCheck CheckLabelInFrame(const DepthImage& depth_m, const PinholeCamera& cam
 /// differ, empty mask), or nullopt when the object's cloud can be cut from the frame.
 std::optional<LabelCheck> CheckFrameInput(const DepthImage& depth_m, const PinholeCamera& camera,
                                           const LabelImage& mask, uint16_t label_id);
+
+/// The frame's object mask cut by its measured depth at the label's pose (CutOccluders with the label's
+/// crop from `model`, options.crop.pixel_m and options.occluder_margin_m); nullopt when nothing is cut or
+/// the margin is 0 (the paper's plain mask). Input as CheckFrameInput accepts it.
+std::optional<OccluderCut> CutOccludersAtLabel(const DepthImage& depth_m, const PinholeCamera& camera,
+                                               const LabelImage& mask, uint16_t label_id,
+                                               const Rigid3d& T_camera_object_label, const CropSource& model,
+                                               const ValidateOptions& options);
 
 /// A suspect LabelCheck for input that cannot be checked (`code` is one of the bad-input reasons).
 LabelCheck BadInputCheck(VerdictReason code, std::string reason, int scene_points = 0);

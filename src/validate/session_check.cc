@@ -240,23 +240,31 @@ void CheckTracked(const FrameInputs& in, const SessionReader& session, const Obj
   const bool seed_from_label = model.options.check_seed == AcquisitionSeed::kLabel;
   // Cross-checks at fixed frame indices: a shard starting at such a frame checks as the whole run does.
   const int every = model.options.tracking.reacquire_every;
-  // Thinned here once for the tracker and the check (model.thinned_options).
+  // The mask less what the depth shows in front (a hand); thinned here once for the tracker and the check
+  // (model.thinned_options).
+  const std::optional<OccluderCut> cut = CutOccludersAtLabel(in.depth_m, camera, *mask.mask, mask.value,
+                                                             r.T_camera_object_label, *model.crops, model.options);
+  const LabelImage& object_mask = cut ? cut->mask : *mask.mask;
   const PointCloud scene =
-      VoxelDownsample(DepthToPointsMasked(in.depth_m, camera, *mask.mask, mask.value), model.options.scene_voxel_m);
+      VoxelDownsample(DepthToPointsMasked(in.depth_m, camera, object_mask, mask.value), model.options.scene_voxel_m);
   // Without a tracked camera body the camera is taken as static (motion all in the object).
   const InterpolatedPose camera_pose = session.CameraPoseAtFrame(r.camera, r.index);
   const int64_t stamp_ns = std::max(r.stamp_ns, last_stamp_ns + 1);
   last_stamp_ns = stamp_ns;
   // Crops as this frame sees them; the label seeds the acquisitions (the first frame, after a loss,
   // the periodic cross-check), as in the per-frame mode.
-  const VisibleInFrameCropSource visible(*model.crops, camera, in.depth_m, *mask.mask, mask.value,
+  const VisibleInFrameCropSource visible(*model.crops, camera, in.depth_m, object_mask, mask.value,
                                          model.options.occluder_margin_m);
   const CropSource& frame_model =
       model.options.occluder_margin_m > 0 ? static_cast<const CropSource&>(visible) : *model.crops;
+  // The label's own score sees the mask as given (CheckLabel's label_model).
+  const VisibleInFrameCropSource as_masked(*model.crops, camera, in.depth_m, *mask.mask, mask.value,
+                                           model.options.occluder_margin_m);
+  const CropSource* label_model = cut ? &as_masked : nullptr;
   const TrackStep step = tracker.Step(scene, camera_pose.ok() ? *camera_pose.pose : Rigid3d(), stamp_ns,
                                       seed_from_label ? &r.T_camera_object_label : nullptr, &frame_model,
                                       every > 0 && r.index % every == 0);
-  r.check = CheckLabelWithTrack(scene, r.T_camera_object_label, frame_model, step, model.thinned_options);
+  r.check = CheckLabelWithTrack(scene, r.T_camera_object_label, frame_model, step, model.thinned_options, label_model);
   r.mode = std::string(ToString(step.mode));
   // A tracking step is the fast path to a clear agreement; a disagreement or a close call is evidence
   // only from a full acquisition (a track can settle a few millimetres off while a carried object
@@ -264,9 +272,11 @@ void CheckTracked(const FrameInputs& in, const SessionReader& session, const Obj
   // again as the per-frame mode does.
   if (step.mode == TrackMode::kTracking && seed_from_label && !ClearAgreement(r.check, model.options)) {
     // The frame's cloud, already thinned, and its crops as above: what CheckLabelInFrame would make again.
-    r.check = CheckLabel(scene, r.T_camera_object_label, frame_model, model.view_crops, model.thinned_options);
+    r.check = CheckLabel(scene, r.T_camera_object_label, frame_model, model.view_crops, model.thinned_options,
+                         label_model);
     r.mode = "recheck";
   }
+  r.check.occluder_pixels = cut ? cut->pixels : 0;
 }
 
 /// Frames shared by the jobs that check one stretch's instances apart: each frame is read by the first job

@@ -144,6 +144,53 @@ TEST_F(LabelCheckTest, FingersOnTheSurfaceDoNotPullTheEstimate) {
   EXPECT_GT(plain.errors.position_mm, robust.errors.position_mm + 0.3) << plain.reason;
 }
 
+// A hand between camera and object lies inside the label's mask (rendered from the known objects alone);
+// the measured depth shows it 15 cm in front of the model's surface there, so those pixels leave the scene
+// cloud and the crops. With the plain mask (occluder_margin_m = 0, the paper's) its points are the
+// object's.
+TEST_F(LabelCheckTest, AHandInFrontIsCutByTheMeasuredDepth) {
+  const PinholeCamera camera = Kinect();
+  const Eigen::Vector2d centre = *camera.Project(truth_.translation());
+  int64_t hand = 0;
+  for (int v = 0; v < 480; ++v)
+    for (int u = static_cast<int>(centre.x()) - 15; u < static_cast<int>(centre.x()) + 60; ++u)
+      if (frame_.mask.contains(u, v) && frame_.mask.at(u, v) == 3 && frame_.depth.at(u, v) > 0) {
+        frame_.depth.at(u, v) -= 0.15f;
+        ++hand;
+      }
+  int64_t object = 0;
+  for (uint16_t m : frame_.mask.data) object += m == 3;
+  ASSERT_GT(hand, object / 3);
+  const LabelCheck cut = Check(truth_);
+  EXPECT_EQ(cut.verdict, Verdict::kAccept) << cut.reason;
+  EXPECT_LT(cut.errors.position_mm, 2.0) << cut.reason;
+  EXPECT_LE(cut.occluder_pixels, hand);  // the object's own pixels stay
+  EXPECT_GT(cut.occluder_pixels, hand * 95 / 100);
+  options_.occluder_margin_m = 0;
+  const LabelCheck plain = Check(truth_);
+  EXPECT_EQ(plain.occluder_pixels, 0);
+  EXPECT_NE(plain.verdict, Verdict::kAccept) << plain.reason;
+}
+
+// A label a centimetre or two off keeps every pixel of the object: the cut takes only what lies the margin
+// (3 cm) in front of the label's surface, so a wrong label is not excused by cutting the object away.
+TEST_F(LabelCheckTest, TheDepthCutKeepsTheObjectUnderAWrongLabel) {
+  const Eigen::Vector3d view = truth_.translation().normalized();
+  for (const Rigid3d& label : {Rigid3d::FromRvec({0, 0, 0}, 0.02 * view) * truth_,
+                               Rigid3d::FromRvec({0, 0, 0}, -0.02 * view) * truth_,
+                               truth_ * Rigid3d::FromRvec(Eigen::Vector3d(0.3, 1, 0.2).normalized() * RadFromDeg(5), {0, 0, 0})}) {
+    const std::optional<OccluderCut> cut =
+        CutOccludersAtLabel(frame_.depth, Kinect(), frame_.mask, 3, label, model_, options_);
+    EXPECT_FALSE(cut.has_value()) << cut->pixels;
+  }
+  // Moved 5 cm back, the label's surface lies behind the measured one by more than the margin: the
+  // object's pixels in front of it are cut, the check has too little left and does not accept.
+  const Rigid3d behind = Rigid3d::FromRvec({0, 0, 0}, 0.05 * view) * truth_;
+  const LabelCheck c = Check(behind);
+  EXPECT_GT(c.occluder_pixels, 0);
+  EXPECT_NE(c.verdict, Verdict::kAccept) << c.reason;
+}
+
 // The accept bounds follow the estimate's precision: a precise estimate is held to the floor (the
 // label's own error), an imprecise one gets up to the widest bounds, one without analysis the widest.
 TEST(Verdict, AcceptBoundsFollowTheEstimatesPrecision) {
