@@ -50,9 +50,9 @@ class VisibleInFrameCropSource : public CropSource {
   double margin_m_;
 };
 
-/// The object's pixels as the frame's measured depth shows them (the issue's "cut the scene cloud with what
-/// the measured depth shows"): the label's mask is rendered from the known objects alone, so a hand or a
-/// tool between camera and object lies inside it, and its points would be taken for the object's.
+/// The object's pixels as the frame's measured depth shows them: the label's mask is rendered from the
+/// known objects alone, so a hand or a tool between camera and object lies inside it, and its points would
+/// be taken for the object's.
 struct OccluderCut {
   LabelImage mask;     ///< the given mask with the cut pixels set to 0 (background)
   int64_t pixels = 0;  ///< pixels of the object cut
