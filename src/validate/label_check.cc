@@ -340,19 +340,27 @@ LabelCheck CheckLabelInFrame(const DepthImage& depth_m, const PinholeCamera& cam
                              uint16_t label_id, const Rigid3d& T_camera_object_label, const CropSource& model,
                              const std::vector<ModelCrop>& view_crops, const ValidateOptions& options) {
   if (auto bad = CheckFrameInput(depth_m, camera, mask, label_id)) return *bad;
-  if (options.occluder_margin_m <= 0)
-    return CheckLabel(DepthToPointsMasked(depth_m, camera, mask, label_id), T_camera_object_label, model, view_crops,
-                      options);
-  const std::optional<OccluderCut> cut =
-      CutOccludersAtLabel(depth_m, camera, mask, label_id, T_camera_object_label, model, options);
-  const LabelImage& object_mask = cut ? cut->mask : mask;
-  const PointCloud scene = DepthToPointsMasked(depth_m, camera, object_mask, label_id);
-  const VisibleInFrameCropSource visible(model, camera, depth_m, object_mask, label_id, options.occluder_margin_m);
-  const VisibleInFrameCropSource as_masked(model, camera, depth_m, mask, label_id, options.occluder_margin_m);
-  LabelCheck check = CheckLabel(scene, T_camera_object_label, visible, view_crops, options, &as_masked);
-  check.occluder_pixels = cut ? cut->pixels : 0;
+  const ObjectInFrame object(depth_m, camera, mask, label_id, T_camera_object_label, model, options);
+  LabelCheck check = CheckLabel(object.SceneCloud(), T_camera_object_label, object.crops(), view_crops, options,
+                                object.label_crops());
+  check.occluder_pixels = object.occluder_pixels();
   return check;
 }
+
+ObjectInFrame::ObjectInFrame(const DepthImage& depth_m, const PinholeCamera& camera, const LabelImage& mask,
+                             uint16_t label_id, const Rigid3d& T_camera_object_label, const CropSource& model,
+                             const ValidateOptions& options)
+    : depth_m_(depth_m),
+      camera_(camera),
+      label_id_(label_id),
+      model_(model),
+      filter_crops_(options.occluder_margin_m > 0),
+      cut_(CutOccludersAtLabel(depth_m, camera, mask, label_id, T_camera_object_label, model, options)),
+      mask_(cut_ ? cut_->mask : mask),
+      visible_(model, camera, depth_m, mask_, label_id, options.occluder_margin_m),
+      as_masked_(model, camera, depth_m, mask, label_id, options.occluder_margin_m) {}
+
+PointCloud ObjectInFrame::SceneCloud() const { return DepthToPointsMasked(depth_m_, camera_, mask_, label_id_); }
 
 std::optional<OccluderCut> CutOccludersAtLabel(const DepthImage& depth_m, const PinholeCamera& camera,
                                                const LabelImage& mask, uint16_t label_id,

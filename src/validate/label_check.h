@@ -123,6 +123,34 @@ std::optional<OccluderCut> CutOccludersAtLabel(const DepthImage& depth_m, const 
                                                const Rigid3d& T_camera_object_label, const CropSource& model,
                                                const ValidateOptions& options);
 
+/// One object in one frame as the checks see it: its mask cut by the measured depth at the label's pose
+/// (CutOccludersAtLabel), its scene cloud and crops through that mask (VisibleInFrameCropSource; `model`
+/// itself when options.occluder_margin_m is 0), and, when something was cut, the crops through the mask
+/// as given, for the label's own score (CheckLabel's `label_model`). The per-frame and the tracked checks
+/// both take it. Its arguments must outlive it; not copyable (its crop sources point into it).
+class ObjectInFrame {
+ public:
+  ObjectInFrame(const DepthImage& depth_m, const PinholeCamera& camera, const LabelImage& mask, uint16_t label_id,
+                const Rigid3d& T_camera_object_label, const CropSource& model, const ValidateOptions& options);
+  ObjectInFrame(const ObjectInFrame&) = delete;
+  ObjectInFrame& operator=(const ObjectInFrame&) = delete;
+  /// The object's depth points (camera frame, unthinned) under the cut mask.
+  PointCloud SceneCloud() const;
+  const CropSource& crops() const { return filter_crops_ ? visible_ : model_; }
+  const CropSource* label_crops() const { return cut_ ? &as_masked_ : nullptr; }
+  int64_t occluder_pixels() const { return cut_ ? cut_->pixels : 0; }
+
+ private:
+  const DepthImage& depth_m_;
+  const PinholeCamera& camera_;
+  uint16_t label_id_;
+  const CropSource& model_;
+  bool filter_crops_;
+  const std::optional<OccluderCut> cut_;  // before the sources, which see its mask
+  const LabelImage& mask_;                // cut_'s mask or the one given
+  const VisibleInFrameCropSource visible_, as_masked_;
+};
+
 /// A suspect LabelCheck for input that cannot be checked (`code` is one of the bad-input reasons).
 LabelCheck BadInputCheck(VerdictReason code, std::string reason, int scene_points = 0);
 

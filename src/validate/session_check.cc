@@ -240,27 +240,19 @@ void CheckTracked(const FrameInputs& in, const SessionReader& session, const Obj
   const bool seed_from_label = model.options.check_seed == AcquisitionSeed::kLabel;
   // Cross-checks at fixed frame indices: a shard starting at such a frame checks as the whole run does.
   const int every = model.options.tracking.reacquire_every;
-  // The mask less what the depth shows in front (a hand); thinned here once for the tracker and the check
-  // (model.thinned_options).
-  const std::optional<OccluderCut> cut = CutOccludersAtLabel(in.depth_m, camera, *mask.mask, mask.value,
-                                                             r.T_camera_object_label, *model.crops, model.options);
-  const LabelImage& object_mask = cut ? cut->mask : *mask.mask;
-  const PointCloud scene =
-      VoxelDownsample(DepthToPointsMasked(in.depth_m, camera, object_mask, mask.value), model.options.scene_voxel_m);
+  // The mask less what the depth shows in front (a hand), its cloud thinned here once for the tracker and
+  // the check (model.thinned_options), and its crops as this frame sees them.
+  const ObjectInFrame object(in.depth_m, camera, *mask.mask, mask.value, r.T_camera_object_label, *model.crops,
+                             model.options);
+  const PointCloud scene = VoxelDownsample(object.SceneCloud(), model.options.scene_voxel_m);
   // Without a tracked camera body the camera is taken as static (motion all in the object).
   const InterpolatedPose camera_pose = session.CameraPoseAtFrame(r.camera, r.index);
   const int64_t stamp_ns = std::max(r.stamp_ns, last_stamp_ns + 1);
   last_stamp_ns = stamp_ns;
-  // Crops as this frame sees them; the label seeds the acquisitions (the first frame, after a loss,
-  // the periodic cross-check), as in the per-frame mode.
-  const VisibleInFrameCropSource visible(*model.crops, camera, in.depth_m, object_mask, mask.value,
-                                         model.options.occluder_margin_m);
-  const CropSource& frame_model =
-      model.options.occluder_margin_m > 0 ? static_cast<const CropSource&>(visible) : *model.crops;
-  // The label's own score sees the mask as given (CheckLabel's label_model).
-  const VisibleInFrameCropSource as_masked(*model.crops, camera, in.depth_m, *mask.mask, mask.value,
-                                           model.options.occluder_margin_m);
-  const CropSource* label_model = cut ? &as_masked : nullptr;
+  // The label seeds the acquisitions (the first frame, after a loss, the periodic cross-check), as in the
+  // per-frame mode.
+  const CropSource& frame_model = object.crops();
+  const CropSource* label_model = object.label_crops();
   const TrackStep step = tracker.Step(scene, camera_pose.ok() ? *camera_pose.pose : Rigid3d(), stamp_ns,
                                       seed_from_label ? &r.T_camera_object_label : nullptr, &frame_model,
                                       every > 0 && r.index % every == 0);
@@ -276,7 +268,7 @@ void CheckTracked(const FrameInputs& in, const SessionReader& session, const Obj
                          label_model);
     r.mode = "recheck";
   }
-  r.check.occluder_pixels = cut ? cut->pixels : 0;
+  r.check.occluder_pixels = object.occluder_pixels();
 }
 
 /// Frames shared by the jobs that check one stretch's instances apart: each frame is read by the first job
