@@ -3,6 +3,7 @@
 #include <Eigen/LU>
 
 #include "core/check.h"
+#include "core/pinhole.h"
 
 namespace mocap {
 
@@ -53,7 +54,7 @@ Eigen::Vector2d PinholeCamera::Undistort(const Eigen::Vector2d& xy_distorted) co
 std::optional<Eigen::Vector2d> PinholeCamera::Project(const Eigen::Vector3d& point_camera) const {
   if (point_camera.z() <= 0) return std::nullopt;
   const Eigen::Vector2d d = Distort(point_camera.head<2>() / point_camera.z());
-  return Eigen::Vector2d(fx * d.x() + cx, fy * d.y() + cy);
+  return PixelOfNormalised(*this, d.x(), d.y());
 }
 
 Eigen::Vector3d PinholeCamera::Ray(const Eigen::Vector2d& pixel) const {

@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "core/check.h"
+#include "core/pinhole.h"
 
 namespace mocap {
 
@@ -31,7 +32,7 @@ ModelCrop VisibleInFrameCropSource::Visible(const Rigid3d& T_camera_model, Model
   // The rotation as a matrix once per crop: applying the quaternion costs twice the arithmetic per point.
   const Eigen::Matrix3d R = T_camera_model.rotation_matrix();
   const Eigen::Vector3d t = T_camera_model.translation();
-  // Without distortion, PinholeCamera::Project's arithmetic in place of its call (the same pixels).
+  // Without distortion, Project's arithmetic inline in place of its call (core/pinhole.h: the same pixels).
   const bool pinhole = !camera_.has_distortion();
   for (size_t i = 0; i < crop.points_model.size(); ++i) {
     const Eigen::Vector3d& p_model = crop.points_model[i];
@@ -39,8 +40,8 @@ ModelCrop VisibleInFrameCropSource::Visible(const Rigid3d& T_camera_model, Model
     int u = -1, v = -1;
     if (pinhole) {
       if (p_camera.z() <= 0) continue;
-      u = NearestPixel(camera_.fx * (p_camera.x() / p_camera.z()) + camera_.cx);
-      v = NearestPixel(camera_.fy * (p_camera.y() / p_camera.z()) + camera_.cy);
+      const Eigen::Vector2d pixel = ProjectWithoutDistortion(camera_, p_camera);
+      u = NearestPixel(pixel.x()), v = NearestPixel(pixel.y());
     } else {
       const auto pixel = camera_.Project(p_camera);
       if (!pixel) continue;
