@@ -15,6 +15,8 @@
 #   CLANGXX           clang++ to use (default clang++)
 #   FUZZ_SECONDS      run time of each fuzzer (default 10; make fuzz: 300)
 #   FUZZ_JOBS         compiles and fuzzers at once (default 2)
+#   FUZZ_OPT          optimisation of the instrumented objects: -O1 (default, make fuzz) or -O0 (ctest's
+#                     brief runs: less compile time); each level has its own WORK/obj and WORK/bin
 #   FUZZ_KEEP_CORPUS  1: grow and keep WORK/NAME/corpus across runs (make fuzz); else each run starts from
 #                     the seeds alone, so a brief ctest run does the same work every time
 set -euo pipefail
@@ -57,6 +59,12 @@ fuzz_dir=$build_dir/tests/fuzz
 work=$fuzz_dir/work
 clang=${CLANGXX:-clang++}
 jobs=${FUZZ_JOBS:-2}
+opt=${FUZZ_OPT:--O1}
+case $opt in
+  -O1) obj_dir=$work/obj bin_dir=$work/bin ;;
+  -O0) obj_dir=$work/obj-O0 bin_dir=$work/bin-O0 ;;
+  *) echo "fuzz.sh: FUZZ_OPT is '$opt', not -O0 or -O1" >&2; exit 2 ;;
+esac
 
 # Longest input: the seeds are cut to about this size (make_seeds.cc).
 max_len_of() {
@@ -68,7 +76,7 @@ max_len_of() {
   esac
 }
 
-object_of() { echo "$work/obj/${1//\//_}.o"; }
+object_of() { echo "$obj_dir/${1//\//_}.o"; }
 
 # True when TARGET is missing or any of the other files is newer than it or missing.
 stale() {
@@ -93,7 +101,7 @@ compile() {
     stale "$object" "${deps[@]}" "$source_dir/$source" "$fuzz_dir/compile_flags.rsp" || return 0
   fi
   echo "fuzz.sh: compiling $source" >&2
-  "$clang" -std=c++20 -O1 -gline-tables-only -fno-omit-frame-pointer -fsanitize=fuzzer-no-link,address,undefined \
+  "$clang" -std=c++20 "$opt" -gline-tables-only -fno-omit-frame-pointer -fsanitize=fuzzer-no-link,address,undefined \
     -fno-sanitize-recover=undefined -w @"$fuzz_dir/compile_flags.rsp" -I"$source_dir/tests/fuzz" \
     -MMD -MF "$object.d.tmp.$$" -c "$source_dir/$source" -o "$object.tmp.$$"
   mv "$object.tmp.$$" "$object"
@@ -102,7 +110,7 @@ compile() {
 
 # Links a fuzzer unless it is newer than its objects, link_libs.rsp and the libraries that lists.
 link() {
-  local name=$1 fuzzer=$work/bin/fuzz_$1 objects=() libs=() source
+  local name=$1 fuzzer=$bin_dir/fuzz_$1 objects=() libs=() source
   for source in tests/fuzz/fuzz_$name.cc $(sources_of "$name"); do objects+=("$(object_of "$source")"); done
   read -r -a libs <<< "$(grep -E '^/.*\.(a|so[.0-9]*)$' "$fuzz_dir/link_libs.rsp" | tr '\n' ' ')"
   stale "$fuzzer" "${objects[@]}" "$fuzz_dir/link_libs.rsp" "${libs[@]}" || return 0
@@ -117,9 +125,9 @@ build() {
   for name in "${names[@]}"; do
     sources+=(tests/fuzz/fuzz_$name.cc $(sources_of "$name"))
   done
-  mkdir -p "$work/obj" "$work/bin"
+  mkdir -p "$obj_dir" "$bin_dir"
   export -f compile link stale object_of sources_of
-  export clang source_dir fuzz_dir work
+  export clang source_dir fuzz_dir work opt obj_dir bin_dir
   printf '%s\n' "${sources[@]}" | sort -u | xargs -P "$jobs" -I{} bash -c 'set -euo pipefail; compile "$1"' _ {}
   printf '%s\n' "${names[@]}" | xargs -P "$jobs" -I{} bash -c 'set -euo pipefail; link "$1"' _ {}
 }
@@ -137,7 +145,7 @@ run() {
   "$fuzz_dir/mocap_fuzz_seeds" "$name" "$dir/seeds"
   TMPDIR=$dir/tmp ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1} \
     UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1} \
-    "$work/bin/fuzz_$name" -max_total_time="${FUZZ_SECONDS:-10}" -max_len="$(max_len_of "$name")" -timeout=10 \
+    "$bin_dir/fuzz_$name" -max_total_time="${FUZZ_SECONDS:-10}" -max_len="$(max_len_of "$name")" -timeout=10 \
     -rss_limit_mb=2048 -malloc_limit_mb=512 -print_final_stats=1 -artifact_prefix="$dir/" "$@" "$dir/corpus" "$dir/seeds" \
     $(find "$source_dir/tests/fuzz/regressions/$name" -maxdepth 0 2>/dev/null)
 }
@@ -154,7 +162,7 @@ case $command in
   all)
     build
     export -f run max_len_of
-    export work fuzz_dir source_dir
+    export work fuzz_dir source_dir bin_dir
     printf '%s\n' "${all_fuzzers[@]}" |
       xargs -P "$jobs" -I{} bash -c \
         'run "$1" > "$work/$1.log" 2>&1 && echo "fuzz_$1: ok" || echo "fuzz_$1: FAILED (see $work/$1.log)"' _ {} |
