@@ -47,6 +47,7 @@
 #include "render/mesh.h"
 #include "session/reader.h"
 #include "validate/point_grid.h"
+#include "validate/session_check.h"
 #if MOCAP_BENCH_WITH_LMO
 #include "tests/validate/session_fixture.h"
 #endif
@@ -91,24 +92,14 @@ struct Case {
   fs::path session, labels, objects, truth;
 };
 
-/// The session check's per-object scene voxel (session_check.cc OptionsFor: a large object gets coarser
-/// crops and voxels so that its crops keep about CropOptions::max_points points).
-double SceneVoxelOf(const ValidationObject& object, const ValidateOptions& o) {
-  const Mesh mesh = LoadMesh(object.mesh_path.string(), object.unit_scale_to_m);
-  Eigen::Vector3f lo = Eigen::Vector3f::Constant(1e30f), hi = Eigen::Vector3f::Constant(-1e30f);
-  for (const Eigen::Vector3f& p : mesh.positions_m) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
-  const Eigen::Vector3d size = (hi - lo).cast<double>().cwiseMax(0.0);
-  const double face_m2 = std::max({size.x() * size.y(), size.y() * size.z(), size.x() * size.z()});
-  return o.scene_voxel_m * std::max(1.0, std::sqrt(face_m2 / (o.crop.max_points * o.crop.pixel_m * o.crop.pixel_m)));
-}
-
 /// Reading the frames and making the scene clouds, replayed alone on one thread.
 ReplayedSteps ReplaySteps(const Case& c, const pipeline::LabelRun& labels) {
   const SessionReader session = SessionReader::Open(c.session);
   const std::vector<ValidationObject> objects =
       pipeline::ValidationObjectsOf(pipeline::ReadObjectLibrary(pipeline::FindObjectsFile(c.session, c.objects)));
   std::map<int, double> voxel_m;
-  for (const ValidationObject& o : objects) voxel_m[o.id] = SceneVoxelOf(o, ValidateOptions());
+  for (const ValidationObject& o : objects)
+    voxel_m[o.id] = OptionsForObject(LoadMesh(o.mesh_path.string(), o.unit_scale_to_m), ValidateOptions()).scene_voxel_m;
   ReplayedSteps steps;
   for (const pipeline::LabelRecord& r : labels.records) {
     if (!r.has_pose || !session.frame(r.camera, r.index).depth_present) continue;

@@ -112,24 +112,8 @@ std::optional<LabelCheck> InputProblem(const FrameInputs& in, const RecordMask& 
   return CheckFrameInput(in.depth_m, camera, *mask.mask, mask.value);
 }
 
-/// The settings for one object: a large object (a table top) gets coarser crops and scene voxels, so
-/// that its crops keep about CropOptions::max_points points (at 5 mm a table top's crop had tens of
-/// thousands, and its checks took ten times a bottle's).
-ValidateOptions OptionsFor(const Mesh& mesh, ValidateOptions o) {
-  Eigen::Vector3f lo = Eigen::Vector3f::Constant(1e30f), hi = Eigen::Vector3f::Constant(-1e30f);
-  for (const Eigen::Vector3f& p : mesh.positions_m) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
-  const Eigen::Vector3d size = (hi - lo).cast<double>().cwiseMax(0.0);
-  const double largest_face_m2 = std::max({size.x() * size.y(), size.y() * size.z(), size.x() * size.z()});
-  const double scale = std::max(1.0, std::sqrt(largest_face_m2 / (o.crop.max_points * o.crop.pixel_m * o.crop.pixel_m)));
-  o.crop.pixel_m *= scale;
-  o.scene_voxel_m *= scale;
-  o.crop_cache.normal_radius_m *= scale;
-  o.observability.normal_radius_m *= scale;
-  return o;
-}
-
 struct ObjectModel {
-  ValidateOptions options;  ///< the run's, at this object's resolution (OptionsFor)
+  ValidateOptions options;  ///< the run's, at this object's resolution (OptionsForObject)
   /// The same for a scene cloud the session check has already thinned to options.scene_voxel_m: the
   /// tracker and the check do not thin it again (that would leave it as it is, at a cost).
   ValidateOptions thinned_options;
@@ -141,7 +125,7 @@ struct ObjectModel {
 ObjectModel LoadModel(const ValidationObject& object, const SessionCheckOptions& options) {
   const Mesh mesh = LoadMesh(object.mesh_path.string(), object.unit_scale_to_m);
   ObjectModel model;
-  model.options = OptionsFor(mesh, options.validate);
+  model.options = OptionsForObject(mesh, options.validate);
   model.thinned_options = model.options;
   model.thinned_options.scene_voxel_m = 0;
   if (options.crops == CropBackend::kRenderer)
@@ -341,6 +325,19 @@ void CheckTracks(const SessionReader& session, const LabelRunView& labels, const
 }
 
 }  // namespace
+
+ValidateOptions OptionsForObject(const Mesh& mesh, ValidateOptions o) {
+  Eigen::Vector3f lo = Eigen::Vector3f::Constant(1e30f), hi = Eigen::Vector3f::Constant(-1e30f);
+  for (const Eigen::Vector3f& p : mesh.positions_m) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  const Eigen::Vector3d size = (hi - lo).cast<double>().cwiseMax(0.0);
+  const double largest_face_m2 = std::max({size.x() * size.y(), size.y() * size.z(), size.x() * size.z()});
+  const double scale = std::max(1.0, std::sqrt(largest_face_m2 / (o.crop.max_points * o.crop.pixel_m * o.crop.pixel_m)));
+  o.crop.pixel_m *= scale;
+  o.scene_voxel_m *= scale;
+  o.crop_cache.normal_radius_m *= scale;
+  o.observability.normal_radius_m *= scale;
+  return o;
+}
 
 void SessionCheckOptions::check() const {
   if (labels_dir.empty()) throw InputError("validate", "no label folder given (--labels)");

@@ -32,6 +32,13 @@ struct ValidationObject {
   bool tof_range_biased = false;
 };
 
+struct Mesh;
+
+/// The run's options at one object's resolution: a large object (a table top) gets coarser crops and
+/// scene voxels, so that its crops keep about CropOptions::max_points points (at 5 mm a table top's crop
+/// had tens of thousands, and its checks took ten times a bottle's).
+ValidateOptions OptionsForObject(const Mesh& mesh, ValidateOptions options);
+
 /// What the pixel values of user masks (`--masks`) mean.
 enum class MaskValues {
   kObjectId,    ///< the object id (objects.yaml `id`, labels.jsonl `object`, the label run's class PNGs)
