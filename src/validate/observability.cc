@@ -148,7 +148,12 @@ NormalEquations Build(const PointCloud& points, const PointCloud& normals, const
     Vector6d J;
     J << (points[i] - e.center).cross(normals[i]) / e.radius_m, normals[i];
     const double r = residuals[m], w = weights[m];
-    e.A.selfadjointView<Eigen::Upper>().rankUpdate(J, w);  // the lower half is filled once, below
+    // The upper half of A += w J J^T (the lower half is filled once, below), in the arithmetic of Eigen's
+    // rankUpdate, which the compiler kept as a call per point.
+    for (int col = 0; col < 6; ++col) {
+      const double w_j = w * J(col);
+      for (int row = 0; row <= col; ++row) e.A(row, col) += w_j * J(row);
+    }
     e.b += w * J * r;
     e.rmse_m += w * r * r;
     weight_sum += w;
