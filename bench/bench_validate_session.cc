@@ -10,8 +10,8 @@
 //
 // Per case and backend: records/s (records with a pose over the wall time), wall and CPU time, the share
 // of the CPU time in the registration (every call timed on its thread), in reading the frames and in the
-// scene clouds (both replayed alone: per record the depth and instance PNGs read, the object's cloud cut
-// once and thinned and indexed twice, as the tracking step and the label check do), and the rest (crops,
+// scene clouds (both replayed alone as the session check does them: each frame's depth and instance PNGs
+// read once, each record's cloud cut, thinned and indexed once), and the rest (crops,
 // scores, the observability analysis, filter and verdicts, writing the outputs). Accuracy: correct labels
 // accepted (the cases' labels are correct: a simulated session's with its true calibration, LM-O's ground
 // truth), SegICP success (the paper's criterion), and the estimate's position / rotation error against the
@@ -31,7 +31,6 @@
 #include <cstdio>
 #include <ctime>
 #include <map>
-#include <opencv2/imgcodecs.hpp>
 #include <string>
 #include <vector>
 
@@ -45,6 +44,7 @@
 #include "cpu_time.h"
 #include "validate_session_report.h"
 #include "render/mesh.h"
+#include "session/image_io.h"
 #include "session/reader.h"
 #include "validate/point_grid.h"
 #include "validate/session_check.h"
@@ -92,7 +92,11 @@ struct Case {
   fs::path session, labels, objects, truth;
 };
 
-/// Reading the frames and making the scene clouds, replayed alone on one thread.
+/// Reading the frames and making the scene clouds, replayed alone on one thread as the session check
+/// does them: each frame's depth and instance PNG read once for all of its records (the session check
+/// shares them between its jobs), and per record the object's cloud cut from the depth, thinned once and
+/// indexed once. The session check's cut of what the depth shows in front of the object (its occluder
+/// cut, which needs the label's crop) is not replayed: it counts under "rest".
 ReplayedSteps ReplaySteps(const Case& c, const pipeline::LabelRun& labels) {
   const SessionReader session = SessionReader::Open(c.session);
   const std::vector<ValidationObject> objects =
@@ -100,21 +104,21 @@ ReplayedSteps ReplaySteps(const Case& c, const pipeline::LabelRun& labels) {
   std::map<int, double> voxel_m;
   for (const ValidationObject& o : objects)
     voxel_m[o.id] = OptionsForObject(LoadMesh(o.mesh_path.string(), o.unit_scale_to_m), ValidateOptions()).scene_voxel_m;
+  std::map<std::pair<std::string, int64_t>, std::vector<const pipeline::LabelRecord*>> frames;
+  for (const pipeline::LabelRecord& r : labels.records)
+    if (r.has_pose && session.frame(r.camera, r.index).depth_present) frames[{r.camera, r.index}].push_back(&r);
   ReplayedSteps steps;
-  for (const pipeline::LabelRecord& r : labels.records) {
-    if (!r.has_pose || !session.frame(r.camera, r.index).depth_present) continue;
+  for (const auto& [frame, records] : frames) {
+    const auto& [camera_name, index] = frame;
     double start = ThreadCpuS();
-    const DepthImage depth_m = session.LoadDepth(r.camera, r.index);
-    const cv::Mat png = cv::imread(labels.layout.InstancePng(r.camera, r.index).string(), cv::IMREAD_UNCHANGED);
-    LabelImage mask(png.cols, png.rows);
-    for (int v = 0; v < png.rows; ++v)
-      for (int u = 0; u < png.cols; ++u) mask.at(u, v) = png.depth() == CV_8U ? png.at<uint8_t>(v, u) : png.at<uint16_t>(v, u);
+    const DepthImage depth_m = session.LoadDepth(camera_name, index);
+    const LabelImage mask = ReadIdImage(labels.layout.InstancePng(camera_name, index));
     steps.io_s += ThreadCpuS() - start;
     start = ThreadCpuS();
-    const PinholeCamera& camera = session.manifest().FindCamera(r.camera)->color_camera;
-    const PointCloud cloud = DepthToPointsMasked(depth_m, camera, mask, static_cast<uint16_t>(r.instance));
-    for (int twice = 0; twice < 2; ++twice) {
-      const PointGrid grid(VoxelDownsample(cloud, voxel_m.at(r.object)));
+    const PinholeCamera& camera = session.manifest().FindCamera(camera_name)->color_camera;
+    for (const pipeline::LabelRecord* r : records) {
+      const PointCloud cloud = DepthToPointsMasked(depth_m, camera, mask, static_cast<uint16_t>(r->instance));
+      const PointGrid grid(VoxelDownsample(cloud, voxel_m.at(r->object)));
       benchmark::DoNotOptimize(grid.size());
     }
     steps.scene_cloud_s += ThreadCpuS() - start;
