@@ -75,6 +75,13 @@ nlohmann::json ToJson(const RecordCheck& r) {
       j["residual_rms_mm"] = 1e3 * c.observability.residual_rms_m;
       j["supported_points"] = c.observability.supported_points;
     }
+    if (!c.outline.empty()) {
+      nlohmann::json steps = nlohmann::json::array();
+      for (const OutlineStep& step : c.outline)
+        steps.push_back({{"direction", step.direction}, {"shift_mm", 1e3 * step.shift_m}, {"rise", step.rise},
+                         {"judged", step.judged}});
+      j["outline"] = steps;
+    }
     j["precision_position_mm"] = c.precision.position_mm;
     j["precision_rotation_deg"] = c.precision.rotation_deg;
     j["accept_position_mm"] = c.accept_position_mm;
@@ -120,6 +127,15 @@ RecordCheck RecordCheckFromJson(const nlohmann::json& j, const std::string& wher
     if (f.Has("accept_position_mm")) {  // written since the bounds are per record
       c.precision = {f.Number("precision_position_mm"), f.Number("precision_rotation_deg")};
       c.accept_position_mm = f.Number("accept_position_mm"), c.accept_rotation_deg = f.Number("accept_rotation_deg");
+    }
+    if (f.Has("outline")) {  // written since the outline estimate
+      const nlohmann::json& steps = f["outline"];
+      if (!steps.is_array()) throw InputError(where, "outline: expected an array");
+      for (size_t i = 0; i < steps.size(); ++i) {
+        const JsonFields g(steps[i], Str(where, " outline[", i, "]"));
+        c.outline.push_back({static_cast<int>(g.Integer("direction")), 1e-3 * g.Number("shift_mm"), g.Number("rise"),
+                             g.Bool("judged")});
+      }
     }
     if (f.Has("resolution_position_mm"))  // written since the floor takes the depth's resolution
       c.resolution_position_mm = f.Number("resolution_position_mm"),

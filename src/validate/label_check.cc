@@ -45,16 +45,26 @@ bool PolishProbedDirections(const PointGrid& grid, const CropSource& model, cons
   return true;
 }
 
+/// Directions the probe judged but no normal constrains take the outline's estimate (validate/outline.h).
+/// The score stays the fit's: it is taken against the cloud the label's mask cut, which an outline beyond
+/// the label's lies partly outside.
+void EstimateOutlineDirections(const ValidateOptions& options, const OutlineFrame* outline, LabelCheck* check) {
+  if (!outline) return;
+  check->outline = EstimateAlongOutline(*outline, options.outline, options.observability,
+                                        &check->T_camera_object_segicp, &check->observability);
+}
+
 /// The estimate's point-to-plane refinement, which moves it only where the depth constrains it, and the
 /// analysis of where that is. `made`: a converged refinement already made against `grid` that ended at
 /// the estimate (a tracking step's, with the crop it used), taken instead of refining again.
 void RefineEstimate(const PointGrid& grid, const CropSource& model, const ValidateOptions& options,
-                    const TrackStep* made, LabelCheck* check) {
+                    const TrackStep* made, const OutlineFrame* outline, LabelCheck* check) {
   if (made) {
     // Its score is the estimate's score already (the same crop, pose and scene).
     check->observability = ProbeObservability(model, made->refinement_crop, check->T_camera_object_segicp, grid,
                                               options.observability, made->refinement->observability);
     PolishProbedDirections(grid, model, options, check);
+    EstimateOutlineDirections(options, outline, check);
     return;
   }
   const ModelCrop crop = model.Crop(check->T_camera_object_segicp);
@@ -68,14 +78,16 @@ void RefineEstimate(const PointGrid& grid, const CropSource& model, const Valida
   // The refined pose is scored only when the polish leaves it: the polish scores its own result.
   if (!PolishProbedDirections(grid, model, options, check) && refined.iterations > 0)
     check->segicp_score = ScoreAlignment(crop.points_model, refined.T_camera_object, grid, options.alignment).score;
+  EstimateOutlineDirections(options, outline, check);
 }
 
 /// Label score, errors, success and verdict once an estimate (or none) is known; `made` as RefineEstimate.
 void Finish(const PointGrid& grid, const Rigid3d& label, const CropSource& model, const CropSource& label_model,
-            const ValidateOptions& options, LabelCheck* check, const TrackStep* made = nullptr) {
+            const ValidateOptions& options, const OutlineFrame* outline, LabelCheck* check,
+            const TrackStep* made = nullptr) {
   check->label_score = ScoreAlignment(label_model.CropPoints(label).points_model, label, grid, options.alignment).score;
   if (check->estimated) {
-    RefineEstimate(grid, model, options, made, check);
+    RefineEstimate(grid, model, options, made, outline, check);
     ScoreEstimate(label, options, check);
   }
   DecideVerdict(options.verdict, check);
@@ -270,7 +282,7 @@ void ApplyDepthResolution(const DepthResolution& resolution, const ValidateOptio
 
 LabelCheck CheckLabel(const PointCloud& scene_camera, const Rigid3d& T_camera_object_label, const CropSource& model,
                       const std::vector<ModelCrop>& view_crops, const ValidateOptions& options,
-                      const CropSource* label_model) {
+                      const CropSource* label_model, const OutlineFrame* outline) {
   const PointCloud scene = VoxelDownsample(scene_camera, options.scene_voxel_m);
   if (static_cast<int>(scene.size()) < options.min_scene_points)
     return BadInputCheck(VerdictReason::kTooFewPoints,
@@ -290,13 +302,13 @@ LabelCheck CheckLabel(const PointCloud& scene_camera, const Rigid3d& T_camera_ob
     check.segicp_score = r.score;
     check.icp = r.refine;
   }
-  Finish(grid, T_camera_object_label, model, label_model ? *label_model : model, options, &check);
+  Finish(grid, T_camera_object_label, model, label_model ? *label_model : model, options, outline, &check);
   return check;
 }
 
 LabelCheck CheckLabelWithTrack(const PointCloud& scene_camera, const Rigid3d& T_camera_object_label,
                                const CropSource& model, const TrackStep& track, const ValidateOptions& options,
-                               const CropSource* label_model) {
+                               const CropSource* label_model, const OutlineFrame* outline) {
   const PointCloud scene = VoxelDownsample(scene_camera, options.scene_voxel_m);
   if (static_cast<int>(scene.size()) < options.min_scene_points)
     return BadInputCheck(VerdictReason::kTooFewPoints,
@@ -317,7 +329,7 @@ LabelCheck CheckLabelWithTrack(const PointCloud& scene_camera, const Rigid3d& T_
     check.segicp_score = track.score;
     check.icp = track.icp;
   }
-  Finish(grid, T_camera_object_label, model, label_model ? *label_model : model, options, &check,
+  Finish(grid, T_camera_object_label, model, label_model ? *label_model : model, options, outline, &check,
          same_scene && track.measured && track.refinement ? &track : nullptr);
   return check;
 }
@@ -338,11 +350,13 @@ std::optional<LabelCheck> CheckFrameInput(const DepthImage& depth_m, const Pinho
 
 LabelCheck CheckLabelInFrame(const DepthImage& depth_m, const PinholeCamera& camera, const LabelImage& mask,
                              uint16_t label_id, const Rigid3d& T_camera_object_label, const CropSource& model,
-                             const std::vector<ModelCrop>& view_crops, const ValidateOptions& options) {
+                             const std::vector<ModelCrop>& view_crops, const ValidateOptions& options,
+                             bool mask_at_label) {
   if (auto bad = CheckFrameInput(depth_m, camera, mask, label_id)) return *bad;
   const ObjectInFrame object(depth_m, camera, mask, label_id, T_camera_object_label, model, options);
+  const OutlineFrame outline = object.Outline();
   LabelCheck check = CheckLabel(object.SceneCloud(), T_camera_object_label, object.crops(), view_crops, options,
-                                object.label_crops());
+                                object.label_crops(), mask_at_label ? &outline : nullptr);
   check.occluder_pixels = object.occluder_pixels();
   return check;
 }
@@ -352,7 +366,10 @@ ObjectInFrame::ObjectInFrame(const DepthImage& depth_m, const PinholeCamera& cam
                              const ValidateOptions& options)
     : depth_m_(depth_m),
       camera_(camera),
+      label_mask_(mask),
       label_id_(label_id),
+      T_camera_object_label_(T_camera_object_label),
+      occluder_margin_m_(options.occluder_margin_m),
       model_(model),
       filter_crops_(options.occluder_margin_m > 0),
       cut_(CutOccludersAtLabel(depth_m, camera, mask, label_id, T_camera_object_label, model, options)),
@@ -361,6 +378,10 @@ ObjectInFrame::ObjectInFrame(const DepthImage& depth_m, const PinholeCamera& cam
       as_masked_(model, camera, depth_m, mask, label_id, options.occluder_margin_m) {}
 
 PointCloud ObjectInFrame::SceneCloud() const { return DepthToPointsMasked(depth_m_, camera_, mask_, label_id_); }
+
+OutlineFrame ObjectInFrame::Outline() const {
+  return {&depth_m_, &camera_, &mask_, &label_mask_, label_id_, T_camera_object_label_, &model_, occluder_margin_m_};
+}
 
 std::optional<OccluderCut> CutOccludersAtLabel(const DepthImage& depth_m, const PinholeCamera& camera,
                                                const LabelImage& mask, uint16_t label_id,

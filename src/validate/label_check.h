@@ -68,6 +68,9 @@ struct LabelCheck {
   /// difference from the estimate in those directions; the verdict judges that difference when some
   /// direction is unobservable.
   Observability observability;
+  /// The outline estimate's steps along directions no normal constrains (validate/outline.h); empty
+  /// when it did not run.
+  std::vector<OutlineStep> outline;
   ObservedDifference observed;
   /// The estimate's precision in the judged directions and the accept bounds derived from it (at most
   /// VerdictOptions' accept_*; those when the analysis did not run), mm and deg; set by DecideVerdict.
@@ -91,9 +94,11 @@ ObservedDifference JudgedDifference(const LabelCheck& c);
 /// the crops the label's own score takes (null: `model`): the frame's mask as given where `model` and the
 /// scene are cut by the depth (CutOccluders), so that a label behind the object's measured surface, whose
 /// object the cut takes for something in front, still scores low.
+/// `outline`: the frame, when its mask is the label run's (rendered at the label pose), for the estimate
+/// along directions only the outline constrains (validate/outline.h); null: those keep the fit's estimate.
 LabelCheck CheckLabel(const PointCloud& scene_camera, const Rigid3d& T_camera_object_label, const CropSource& model,
                       const std::vector<ModelCrop>& view_crops, const ValidateOptions& options,
-                      const CropSource* label_model = nullptr);
+                      const CropSource* label_model = nullptr, const OutlineFrame* outline = nullptr);
 
 /// Same, with the estimate of a tracker that already ran on this frame (the sequence mode): `track` is
 /// the step the tracker made on the same `scene_camera` with the same `model` and options. Its index of
@@ -101,14 +106,16 @@ LabelCheck CheckLabel(const PointCloud& scene_camera, const Rigid3d& T_camera_ob
 /// instead of being made again.
 LabelCheck CheckLabelWithTrack(const PointCloud& scene_camera, const Rigid3d& T_camera_object_label,
                                const CropSource& model, const TrackStep& track, const ValidateOptions& options,
-                               const CropSource* label_model = nullptr);
+                               const CropSource* label_model = nullptr, const OutlineFrame* outline = nullptr);
 
 /// From a frame: the object's scene cloud is cut from `depth_m` by `mask == label_id`. Bad input (no
 /// depth, a mask of another size, an empty mask, too few points) gives a suspect verdict with the
-/// reason, never an exception or a crash.
+/// reason, never an exception or a crash. `mask_at_label`: `mask` is the label run's, rendered at the
+/// label pose, and the outline estimate may read it as the model's silhouette there.
 LabelCheck CheckLabelInFrame(const DepthImage& depth_m, const PinholeCamera& camera, const LabelImage& mask,
                              uint16_t label_id, const Rigid3d& T_camera_object_label, const CropSource& model,
-                             const std::vector<ModelCrop>& view_crops, const ValidateOptions& options);
+                             const std::vector<ModelCrop>& view_crops, const ValidateOptions& options,
+                             bool mask_at_label = false);
 
 /// The input checks of CheckLabelInFrame alone: a suspect LabelCheck naming the problem (no depth, sizes
 /// differ, empty mask), or nullopt when the object's cloud can be cut from the frame.
@@ -138,12 +145,17 @@ class ObjectInFrame {
   PointCloud SceneCloud() const;
   const CropSource& crops() const { return filter_crops_ ? visible_ : model_; }
   const CropSource* label_crops() const { return cut_ ? &as_masked_ : nullptr; }
+  /// The frame for the outline estimate (its mask taken as rendered at the label pose).
+  OutlineFrame Outline() const;
   int64_t occluder_pixels() const { return cut_ ? cut_->pixels : 0; }
 
  private:
   const DepthImage& depth_m_;
   const PinholeCamera& camera_;
+  const LabelImage& label_mask_;  // as given
   uint16_t label_id_;
+  Rigid3d T_camera_object_label_;
+  double occluder_margin_m_;
   const CropSource& model_;
   bool filter_crops_;
   const std::optional<OccluderCut> cut_;  // before the sources, which see its mask

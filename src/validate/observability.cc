@@ -65,10 +65,6 @@ namespace {
 using Vector6d = Eigen::Matrix<double, 6, 1>;
 using Matrix6d = Eigen::Matrix<double, 6, 6>;
 
-/// Weak directions with less information than this are not refined even where the probe saw them: a
-/// table top's slide can lose a few percent of its edge points and yet have no normal against it.
-constexpr double kMinProbedInformation = 0.01;
-
 /// The robust kernel's scale never drops below the depth's quantisation at a metre (about 1 mm).
 constexpr double kMinRobustScaleM = 0.001;
 
@@ -184,14 +180,6 @@ Observability Analyse(const NormalEquations& e, const ObservabilityOptions& opti
 }
 
 
-/// The pose moved by `step` ([L w; v], object frame about `center`).
-Rigid3d Moved(const Rigid3d& T_camera_object, const Vector6d& step, const Eigen::Vector3d& center, double radius_m) {
-  const Eigen::Vector3d w = step.head<3>() / radius_m, v = step.tail<3>();
-  const Eigen::Matrix3d R = Eigen::AngleAxisd(w.norm(), w.norm() > 0 ? w.normalized() : Eigen::Vector3d::UnitX())
-                                .toRotationMatrix();
-  return T_camera_object * Rigid3d(R, center - R * center + v);  // p -> c + R (p - c) + v
-}
-
 /// Share of `crop` points (at T) with a scene point within `gate_m`.
 double SupportedShare(const PointCloud& crop_model, const Rigid3d& T_camera_object, const PointGrid& scene, double gate_m,
                       int max_points) {
@@ -212,7 +200,7 @@ void Probe(const CropSource& model, const ModelCrop& crop, const Rigid3d& T_came
     if (o->judged[k]) continue;
     double loss = 0.0;
     for (const double sign : {1.0, -1.0}) {
-      const Rigid3d moved = Moved(T_camera_object, sign * options.probe_m * o->directions.col(k), o->center_object, o->radius_m);
+      const Rigid3d moved = MovedAlong(T_camera_object, sign * options.probe_m * o->directions.col(k), o->center_object, o->radius_m);
       loss = std::max(loss, base - SupportedShare(model.CropPoints(moved).points_model, moved, scene, options.probe_support_m,
                                                   options.max_points));
     }
@@ -271,6 +259,13 @@ bool HasProbedDirections(const Observability& o) {
   return false;
 }
 
+Rigid3d MovedAlong(const Rigid3d& T_camera_object, const Vector6d& step, const Eigen::Vector3d& center, double radius_m) {
+  const Eigen::Vector3d w = step.head<3>() / radius_m, v = step.tail<3>();
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(w.norm(), w.norm() > 0 ? w.normalized() : Eigen::Vector3d::UnitX())
+                                .toRotationMatrix();
+  return T_camera_object * Rigid3d(R, center - R * center + v);  // p -> c + R (p - c) + v
+}
+
 PlaneRefinement RefinePointToPlane(const ModelCrop& crop, const Rigid3d& T_camera_object_init,
                                    const PointGrid& scene_camera, const ObservabilityOptions& options,
                                    double first_gate_m, const Observability* probed) {
@@ -309,7 +304,7 @@ PlaneRefinement RefinePointToPlane(const ModelCrop& crop, const Rigid3d& T_camer
       weak_moved = clamped;
     }
     step += weak_step;
-    out.T_camera_object = Moved(out.T_camera_object, step, e.center, e.radius_m);
+    out.T_camera_object = MovedAlong(out.T_camera_object, step, e.center, e.radius_m);
     out.iterations = iteration + 1;
     const double stop_m = probed_move ? options.polish_step_m : options.refine_step_m;
     out.converged = step.tail<3>().norm() < stop_m && step.head<3>().norm() < stop_m;

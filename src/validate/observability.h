@@ -22,6 +22,11 @@
 
 namespace mocap {
 
+/// Weak directions with less information than this have no normal against them (a table top's slide can
+/// lose a few percent of its edge points to the probe and yet no surface resists it): the point-to-plane
+/// polish does not move along them; the outline estimate (validate/outline.h) does.
+inline constexpr double kMinProbedInformation = 0.01;
+
 struct ObservabilityOptions {
   /// Information per supporting point from which a direction counts as observable by the surface normals
   /// alone. A direction every point's normal lies along scores 1.
@@ -115,6 +120,11 @@ PlaneRefinement RefinePointToPlane(const ModelCrop& crop, const Rigid3d& T_camer
 /// but moving along it loses the outline's support): those are the ones RefinePointToPlane's `probed`
 /// pass moves along.
 bool HasProbedDirections(const Observability& o);
+
+/// The pose moved by `step` ([L w; v], object frame about `center`, rotation scaled by `radius_m`: the
+/// analysis coordinates of Observability::directions).
+Rigid3d MovedAlong(const Rigid3d& T_camera_object, const Eigen::Matrix<double, 6, 1>& step,
+                   const Eigen::Vector3d& center, double radius_m);
 
 /// Sets `observable` and the `unobservable` sentences from `judged` and `directions` (after the
 /// directions were expressed in another object frame, as ApplySymmetry does).

@@ -190,7 +190,7 @@ void CheckFrame(const SessionReader& session, const LabelRunView& labels, const 
       r.check = *InputProblem(in, mask, camera);
     else
       r.check = CheckLabelInFrame(in.depth_m, camera, *mask.mask, mask.value, r.T_camera_object_label, *model.crops,
-                                  model.view_crops, model.options);
+                                  model.view_crops, model.options, options.masks_dir.empty());
     Score(in, options, r);
   }
 }
@@ -240,7 +240,11 @@ void CheckTracked(const FrameInputs& in, const SessionReader& session, const Obj
   const TrackStep step = tracker.Step(scene, camera_pose.ok() ? *camera_pose.pose : Rigid3d(), stamp_ns,
                                       seed_from_label ? &r.T_camera_object_label : nullptr, &frame_model,
                                       every > 0 && r.index % every == 0);
-  r.check = CheckLabelWithTrack(scene, r.T_camera_object_label, frame_model, step, model.thinned_options, label_model);
+  // The label run's masks are the models' silhouettes at the labels: the outline estimate reads them so.
+  const OutlineFrame outline_frame = object.Outline();
+  const OutlineFrame* outline = options.masks_dir.empty() ? &outline_frame : nullptr;
+  r.check = CheckLabelWithTrack(scene, r.T_camera_object_label, frame_model, step, model.thinned_options, label_model,
+                                outline);
   r.mode = std::string(ToString(step.mode));
   // A tracking step is the fast path to a clear agreement; a disagreement or a close call is evidence
   // only from a full acquisition (a track can settle a few millimetres off while a carried object
@@ -249,7 +253,7 @@ void CheckTracked(const FrameInputs& in, const SessionReader& session, const Obj
   if (step.mode == TrackMode::kTracking && seed_from_label && !ClearAgreement(r.check, model.options)) {
     // The frame's cloud, already thinned, and its crops as above: what CheckLabelInFrame would make again.
     r.check = CheckLabel(scene, r.T_camera_object_label, frame_model, model.view_crops, model.thinned_options,
-                         label_model);
+                         label_model, outline);
     r.mode = "recheck";
   }
   r.check.occluder_pixels = object.occluder_pixels();

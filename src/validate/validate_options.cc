@@ -46,6 +46,7 @@ void ValidateOptions::check() const {
   filter.check();
   verdict.check();
   observability.check();
+  outline.check();
   if (tracking.theta > acquisition.epsilon)
     throw InputError("ValidateOptions", "tracking.theta must not exceed acquisition.epsilon");
 }

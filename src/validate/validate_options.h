@@ -6,6 +6,7 @@
 #include "validate/crop_cache.h"
 #include "validate/icp.h"
 #include "validate/observability.h"
+#include "validate/outline.h"
 #include "validate/model_crop.h"
 #include "validate/pose_filter.h"
 
@@ -105,6 +106,8 @@ struct ValidateOptions {
   VerdictOptions verdict;
   /// Which directions the depth constrains; the verdict judges only those.
   ObservabilityOptions observability;
+  /// The estimate along directions only the object's outline constrains (validate/outline.h).
+  OutlineOptions outline;
   /// Throws InputError naming the first invalid setting.
   void check() const;
 };

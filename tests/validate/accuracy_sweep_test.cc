@@ -150,7 +150,11 @@ void WriteRecordLine(std::ostream& csv, const std::string& labels, const RecordC
   const Eigen::Vector3d ray = r.T_camera_object_label.translation().normalized();
   const Eigen::Vector3d offset = c.T_camera_object_segicp.translation() - r.T_camera_object_label.translation();
   csv << ',' << 1e3 * offset.dot(ray) << ',' << 1e3 * (offset - offset.dot(ray) * ray).norm() << ','
-      << c.occluder_pixels << '\n';
+      << c.occluder_pixels << ',';
+  // The outline estimate's steps (validate/outline.h): direction, shift mm, rise %, judged.
+  for (const OutlineStep& step : c.outline)
+    csv << step.direction << ':' << 1e3 * step.shift_m << ':' << 100 * step.rise << ':' << step.judged << ' ';
+  csv << '\n';
 }
 
 std::string Row(const std::string& scenario, const std::string& object, const ObjectFigures& f) {
@@ -174,7 +178,7 @@ TEST_P(AccuracySweep, CorrectLabelsAcceptedAndWrongLabelsFlagged) {
   fs::create_directories(fs::path(MOCAP_BINARY_DIR) / "accuracy_sweep");
   std::ofstream csv(fs::path(MOCAP_BINARY_DIR) / "accuracy_sweep" / (GetParam() + ".csv"));
   csv << "labels,object,index,wrong,verdict,reason,reliable,judged_mm,judged_deg,precision_mm,precision_deg,"
-         "accept_mm,accept_deg,supported,residual_mm,observable,mode,along_ray_mm,across_ray_mm,occluder_px\n";
+         "accept_mm,accept_deg,supported,residual_mm,observable,mode,along_ray_mm,across_ray_mm,occluder_px,outline\n";
   for (const RecordCheck& r : correct_check.records)
     if (!IsBadInput(r.check.reason_code)) WriteRecordLine(csv, "correct", r, false);
   std::map<std::string, std::string> check_says = {{"correct labels", SessionWideSays(correct_check)}};

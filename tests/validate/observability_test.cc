@@ -19,19 +19,8 @@ namespace {
 
 using testing::Frame;
 using testing::Kinect;
-
-/// A table top 2.4 x 1.8 m (top face at z = 0, 3 cm thick) as triangles.
-TriangleMesh Slab(double x_m, double y_m, double thickness_m) {
-  TriangleMesh mesh;
-  for (int i = 0; i < 8; ++i)
-    mesh.vertices.push_back({(i & 1 ? 0.5 : -0.5) * x_m, (i & 2 ? 0.5 : -0.5) * y_m, i & 4 ? 0.0 : -thickness_m});
-  const int faces[6][4] = {{0, 1, 3, 2}, {4, 6, 7, 5}, {0, 4, 5, 1}, {2, 3, 7, 6}, {0, 2, 6, 4}, {1, 5, 7, 3}};
-  for (const auto& f : faces) {
-    mesh.triangles.push_back({f[0], f[1], f[2]});
-    mesh.triangles.push_back({f[0], f[2], f[3]});
-  }
-  return mesh;
-}
+using testing::Slab;
+using testing::SplatFrame;
 
 /// A cone of revolution about +z (a funnel's outside): radius 0.09 m at z = 0 to 0.02 m at z = 0.15 m.
 TriangleMesh Cone() {
@@ -64,25 +53,6 @@ Frame TableFrame(const Rigid3d& T_camera_table, std::mt19937& rng) {
   return f;
 }
 
-/// Dense surface samples splatted with a nearest-depth test (the mesh seen by the camera), 1 mm noise.
-Frame SplatFrame(const TriangleMesh& mesh, const Rigid3d& T_camera_object, std::mt19937& rng) {
-  const PinholeCamera camera = Kinect();
-  Frame f{DepthImage(640, 480, 0.0f), LabelImage(640, 480, 0)};
-  for (const auto& p_model : SampleSurface(mesh, 0.0007)) {
-    const Eigen::Vector3d p = T_camera_object * p_model;
-    const auto px = camera.Project(p);
-    if (!px) continue;
-    const int u = static_cast<int>(std::lround(px->x())), v = static_cast<int>(std::lround(px->y()));
-    if (!f.depth.contains(u, v) || (f.depth.at(u, v) != 0.0f && p.z() >= f.depth.at(u, v))) continue;
-    f.depth.at(u, v) = static_cast<float>(p.z());
-    f.mask.at(u, v) = 4;
-  }
-  std::normal_distribution<double> noise(0.0, 0.001);
-  for (auto& d : f.depth.data)
-    if (d > 0) d += static_cast<float>(noise(rng));
-  return f;
-}
-
 class TableTest : public ::testing::Test {
  protected:
   // The camera 0.8 m above the table top, tilted 15 deg: the image sees the top only.
@@ -91,11 +61,7 @@ class TableTest : public ::testing::Test {
   TriangleMesh mesh_ = Slab(2.4, 1.8, 0.03);
   SurfaceCropSource surface_ = SurfaceCropSource::FromMesh(mesh_, CropOptions{0.01});
   CachedCropSource model_{surface_, CropCacheOptions{}};
-  ValidateOptions options_ = [] {
-    ValidateOptions o;
-    o.crop.pixel_m = 0.01;
-    return o;
-  }();
+  ValidateOptions options_ = testing::OptionsWithCropPixel(0.01);
   std::mt19937 rng_{3};
   Frame frame_ = TableFrame(T_camera_table_, rng_);
 

@@ -1,5 +1,6 @@
 #pragma once
 // Synthetic clouds with known geometry for the validator tests.
+#include <cmath>
 #include <random>
 
 #include "core/camera.h"
@@ -8,6 +9,7 @@
 #include "core/rigid3.h"
 #include "validate/model_crop.h"
 #include "validate/point_cloud.h"
+#include "validate/validate_options.h"
 
 namespace mocap::testing {
 
@@ -52,6 +54,46 @@ inline PointCloud BoxSurface(const Eigen::Vector3d& size_m, double spacing_m) {
         }
   }
   return points;
+}
+
+/// A slab x_m by y_m (a table top: its top face at z = 0, `thickness_m` thick) as triangles.
+inline TriangleMesh Slab(double x_m, double y_m, double thickness_m) {
+  TriangleMesh mesh;
+  for (int i = 0; i < 8; ++i)
+    mesh.vertices.push_back({(i & 1 ? 0.5 : -0.5) * x_m, (i & 2 ? 0.5 : -0.5) * y_m, i & 4 ? 0.0 : -thickness_m});
+  const int faces[6][4] = {{0, 1, 3, 2}, {4, 6, 7, 5}, {0, 4, 5, 1}, {2, 3, 7, 6}, {0, 2, 6, 4}, {1, 5, 7, 3}};
+  for (const auto& f : faces) {
+    mesh.triangles.push_back({f[0], f[1], f[2]});
+    mesh.triangles.push_back({f[0], f[2], f[3]});
+  }
+  return mesh;
+}
+
+/// Dense surface samples splatted with a nearest-depth test (the mesh seen by the camera), 1 mm noise;
+/// the mask holds 4 where the mesh is seen.
+inline Frame SplatFrame(const TriangleMesh& mesh, const Rigid3d& T_camera_object, std::mt19937& rng) {
+  const PinholeCamera camera = Kinect();
+  Frame f{DepthImage(640, 480, 0.0f), LabelImage(640, 480, 0)};
+  for (const auto& p_model : SampleSurface(mesh, 0.0007)) {
+    const Eigen::Vector3d p = T_camera_object * p_model;
+    const auto px = camera.Project(p);
+    if (!px) continue;
+    const int u = static_cast<int>(std::lround(px->x())), v = static_cast<int>(std::lround(px->y()));
+    if (!f.depth.contains(u, v) || (f.depth.at(u, v) != 0.0f && p.z() >= f.depth.at(u, v))) continue;
+    f.depth.at(u, v) = static_cast<float>(p.z());
+    f.mask.at(u, v) = 4;
+  }
+  std::normal_distribution<double> noise(0.0, 0.001);
+  for (auto& d : f.depth.data)
+    if (d > 0) d += static_cast<float>(noise(rng));
+  return f;
+}
+
+/// The validator's defaults with crops of `pixel_m` (a table top's coarse crops).
+inline ValidateOptions OptionsWithCropPixel(double pixel_m) {
+  ValidateOptions options;
+  options.crop.pixel_m = pixel_m;
+  return options;
 }
 
 /// A random rigid perturbation with translation norm `translation_m` and rotation angle `angle_deg`

@@ -1,0 +1,53 @@
+// validation.jsonl's record of one check (pipeline/validation_run.h): what the outline estimate did
+// goes out and comes back; a malformed entry is an error naming the line and the field.
+#include "pipeline/validation_run.h"
+
+#include <gtest/gtest.h>
+
+#include "core/check.h"
+
+namespace mocap::pipeline {
+namespace {
+
+RecordCheck CheckedRecord() {
+  RecordCheck r;
+  r.camera = "kinect1", r.index = 12, r.stamp_ns = 400000000, r.object = 5, r.name = "table", r.instance = 5;
+  r.mode = "tracking";
+  r.T_camera_object_label = Rigid3d::FromRvec({0.1, 0.2, 0.3}, {0.1, -0.2, 1.4});
+  LabelCheck& c = r.check;
+  c.verdict = Verdict::kSuspect, c.reason_code = VerdictReason::kDiffers, c.reason = "SegICP differs";
+  c.estimated = true;
+  c.T_camera_object_segicp = Rigid3d::FromRvec({0.1, 0.2, 0.3}, {0.11, -0.2, 1.4});
+  c.outline = {{3, 0.0074, 0.052, true}, {4, 0.0, 0.011, false}};
+  return r;
+}
+
+TEST(ValidationRecordJson, CarriesTheOutlineSteps) {
+  const nlohmann::json j = ToJson(CheckedRecord());
+  ASSERT_TRUE(j.contains("outline"));
+  EXPECT_DOUBLE_EQ(j["outline"][0]["shift_mm"].get<double>(), 7.4);
+  const RecordCheck back = RecordCheckFromJson(j, "validation.jsonl:1");
+  ASSERT_EQ(back.check.outline.size(), 2u);
+  EXPECT_EQ(back.check.outline[0].direction, 3);
+  EXPECT_NEAR(back.check.outline[0].shift_m, 0.0074, 1e-12);
+  EXPECT_DOUBLE_EQ(back.check.outline[1].rise, 0.011);
+  EXPECT_TRUE(back.check.outline[0].judged);
+  EXPECT_FALSE(back.check.outline[1].judged);
+}
+
+TEST(ValidationRecordJson, AMalformedOutlineIsAnErrorNamingTheField) {
+  nlohmann::json j = ToJson(CheckedRecord());
+  j["outline"][1]["judged"] = "yes";
+  try {
+    RecordCheckFromJson(j, "validation.jsonl:7");
+    FAIL() << "accepted a malformed outline step";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("validation.jsonl:7 outline[1]"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("judged"), std::string::npos) << e.what();
+  }
+  j["outline"] = 3;
+  EXPECT_THROW(RecordCheckFromJson(j, "validation.jsonl:7"), InputError);
+}
+
+}  // namespace
+}  // namespace mocap::pipeline
