@@ -125,6 +125,16 @@ TEST_F(TableTest, ReportsACentimetreSlideInItsPlaneAsUnobservableNotAsAgreement)
   EXPECT_LT(c.observed.position_mm, 2.0) << c.reason;
 }
 
+TEST_F(TableTest, ItsOutlineDoesNotBoundASlideWhenItsEdgesAreOutOfView) {
+  // The session check's path: the mask is the label run's, here all table whichever way it slides.
+  const Rigid3d label = T_camera_table_ * Rigid3d::FromRvec({0, 0, 0}, {0.007, 0.007, 0});
+  const LabelCheck c = CheckLabelInFrame(frame_.depth, Kinect(), frame_.mask, 4, label, model_, {}, options_, true);
+  ASSERT_FALSE(c.outline.empty()) << c.reason;
+  for (const OutlineStep& step : c.outline) EXPECT_FALSE(step.judged) << c.reason;
+  EXPECT_EQ(c.reason_code, VerdictReason::kAgreesWhereObservable) << c.reason;
+  EXPECT_NE(c.reason.find("unobservable: translation along any direction normal to"), std::string::npos) << c.reason;
+}
+
 TEST_F(TableTest, ALabelSlidInItsPlaneKeepsTheEstimateAtTheLabelWhereTheDepthCannotTell) {
   // The top alone is in view: anywhere in its plane fits the depth equally. The label-seeded acquisition
   // settles the tie by nearness to the label, so the estimate does not wander along the plane.
