@@ -45,26 +45,16 @@ bool PolishProbedDirections(const PointGrid& grid, const CropSource& model, cons
   return true;
 }
 
-/// Directions the probe judged but no normal constrains take the outline's estimate (validate/outline.h).
-/// The score stays the fit's: it is taken against the cloud the label's mask cut, which an outline beyond
-/// the label's lies partly outside.
-void EstimateOutlineDirections(const ValidateOptions& options, const OutlineFrame* outline, LabelCheck* check) {
-  if (!outline) return;
-  check->outline = EstimateAlongOutline(*outline, options.outline, options.observability,
-                                        &check->T_camera_object_segicp, &check->observability);
-}
-
 /// The estimate's point-to-plane refinement, which moves it only where the depth constrains it, and the
 /// analysis of where that is. `made`: a converged refinement already made against `grid` that ended at
 /// the estimate (a tracking step's, with the crop it used), taken instead of refining again.
 void RefineEstimate(const PointGrid& grid, const CropSource& model, const ValidateOptions& options,
-                    const TrackStep* made, const OutlineFrame* outline, LabelCheck* check) {
+                    const TrackStep* made, LabelCheck* check) {
   if (made) {
     // Its score is the estimate's score already (the same crop, pose and scene).
     check->observability = ProbeObservability(model, made->refinement_crop, check->T_camera_object_segicp, grid,
                                               options.observability, made->refinement->observability);
     PolishProbedDirections(grid, model, options, check);
-    EstimateOutlineDirections(options, outline, check);
     return;
   }
   const ModelCrop crop = model.Crop(check->T_camera_object_segicp);
@@ -78,7 +68,6 @@ void RefineEstimate(const PointGrid& grid, const CropSource& model, const Valida
   // The refined pose is scored only when the polish leaves it: the polish scores its own result.
   if (!PolishProbedDirections(grid, model, options, check) && refined.iterations > 0)
     check->segicp_score = ScoreAlignment(crop.points_model, refined.T_camera_object, grid, options.alignment).score;
-  EstimateOutlineDirections(options, outline, check);
 }
 
 /// Label score, errors, success and verdict once an estimate (or none) is known; `made` as RefineEstimate.
@@ -87,7 +76,13 @@ void Finish(const PointGrid& grid, const Rigid3d& label, const CropSource& model
             const TrackStep* made = nullptr) {
   check->label_score = ScoreAlignment(label_model.CropPoints(label).points_model, label, grid, options.alignment).score;
   if (check->estimated) {
-    RefineEstimate(grid, model, options, made, outline, check);
+    RefineEstimate(grid, model, options, made, check);
+    // The directions no normal constrains take the outline's estimate and judgement (validate/outline.h).
+    // The score stays the fit's: it is taken against the cloud the label's mask cut, which an outline
+    // beyond the label's lies partly outside.
+    if (outline)
+      check->outline = EstimateAlongOutline(*outline, options.outline, options.observability,
+                                            &check->T_camera_object_segicp, &check->observability);
     ScoreEstimate(label, options, check);
   }
   DecideVerdict(options.verdict, check);

@@ -24,7 +24,7 @@ namespace mocap {
 
 /// Weak directions with less information than this have no normal against them (a table top's slide can
 /// lose a few percent of its edge points to the probe and yet no surface resists it): the point-to-plane
-/// polish does not move along them; the outline estimate (validate/outline.h) does.
+/// polish does not move along them; the outline estimate (validate/outline.h) judges their slides.
 inline constexpr double kMinProbedInformation = 0.01;
 
 struct ObservabilityOptions {

@@ -255,7 +255,7 @@ std::vector<OutlineStep> EstimateAlongOutline(const OutlineFrame& frame, const O
                                               const ObservabilityOptions& observability, Rigid3d* T_camera_object,
                                               Observability* o) {
   std::vector<OutlineStep> steps;
-  if (!options.enabled || !o->analysed) return steps;
+  if (!o->analysed) return steps;
   std::optional<OutlineCost> cost;  // made at the first such direction, at the estimate
   for (int k = 0; k < 6; ++k) {
     if (!(o->information(k) < kMinProbedInformation)) continue;

@@ -32,11 +32,10 @@ struct OutlineFrame {
   uint16_t label_id = 0;
   Rigid3d T_camera_object_label;
   const CropSource* model = nullptr;        ///< crops of the whole model (not clipped by the frame)
-  double occluder_margin_m = 0.02;          ///< as VisibleInFrameCropSource's
+  double occluder_margin_m = 0.03;          ///< ValidateOptions::occluder_margin_m
 };
 
 struct OutlineOptions {
-  bool enabled = true;
   /// The line search along each direction: offsets within +-search_m of the estimate (RMS displacement
   /// over the crop), every step_m; the pixels compared lie within search_m (at the object's range) of
   /// the label's outline.
@@ -62,10 +61,10 @@ struct OutlineStep {
   bool judged = false;
 };
 
-/// For each direction of `o` that the probe judged observable although no normal constrains it
-/// (information below kMinProbedInformation), moves `T_camera_object` to the outline's best agreement and
-/// judges it by the outline (replacing the probe's judgement and probe_loss). Returns the steps made
-/// (empty when there was no such direction). `o`'s summary sentences are renewed.
+/// For each slide of `o` that no normal constrains (information below kMinProbedInformation), moves
+/// `T_camera_object` to the outline's best agreement when the outline bounds it both ways, and judges it
+/// by the outline alone (replacing the probe's judgement and probe_loss); a turn no normal constrains is
+/// left unjudged. Returns the steps made, one per such slide. `o`'s summary sentences are renewed.
 std::vector<OutlineStep> EstimateAlongOutline(const OutlineFrame& frame, const OutlineOptions& options,
                                               const ObservabilityOptions& observability, Rigid3d* T_camera_object,
                                               Observability* o);
