@@ -37,7 +37,7 @@ void PrintHuman(const ValidationSummary& s, const fs::path& out) {
     if (!s.session_wide->ran) std::printf("session-wide check not run: %s\n", s.session_wide->why_not.c_str());
     for (const std::string& f : s.session_wide->findings) std::printf("session-wide: %s\n", f.c_str());
     if (s.session_wide->records_flagged > 0)
-      std::printf("session-wide: %lld accepted records made suspect (camera_mount_off)\n",
+      std::printf("session-wide: %lld accepted records made suspect (camera_mount_off, object_mount_off)\n",
                   static_cast<long long>(s.session_wide->records_flagged));
   }
   if (s.has_segmentation)

@@ -1,5 +1,6 @@
 #include "pipeline/session_wide.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <map>
 
@@ -11,11 +12,25 @@ namespace {
 
 /// Why the finding makes this record's label wrong, for its reason line.
 std::string FlagReason(const CheckFinding& f, size_t records_used, const std::string& own_reason) {
-  return Str("the session's ", records_used, " reliable records together find ", FindingText(f),
-             " off; every label of this camera carries it (this record alone: ", own_reason, ")");
+  return Str("the session's ", records_used, " reliable records together find ", FindingText(f), " off; every label of this ",
+             f.kind == CheckItemKind::kCameraMount ? "camera" : "object", " carries it (this record alone: ", own_reason, ")");
+}
+
+/// An object mount finding beyond the widest per-record bounds, even at the near end of its interval.
+bool FlagsItsObject(const CheckFinding& f, const std::vector<ValidationObject>& objects, const SessionWideOptions& options) {
+  if (f.kind != CheckItemKind::kObjectMount) return false;
+  const auto object = std::find_if(objects.begin(), objects.end(), [&](const ValidationObject& o) { return o.name == f.name; });
+  if (object == objects.end() || object->tof_range_biased) return false;
+  return f.size_mm - f.ci95_mm > options.object_mount_mm || f.size_deg - f.ci95_deg > options.object_mount_deg;
 }
 
 }  // namespace
+
+void SessionWideOptions::check() const {
+  calibration.check();
+  if (!(object_mount_mm > 0) || !(object_mount_deg > 0))
+    throw InputError("session_wide", "object_mount_mm and object_mount_deg must be positive");
+}
 
 std::string FindingText(const CheckFinding& f) {
   if (f.kind == CheckItemKind::kLatency) {
@@ -28,6 +43,7 @@ std::string FindingText(const CheckFinding& f) {
 
 std::vector<size_t> FlagSessionWideErrors(SessionValidation& validation, const std::vector<ValidationObject>& objects,
                                           const SessionWideOptions& options) {
+  options.check();
   SessionWideSummary summary;
   std::vector<size_t> flagged;
   const std::vector<CheckRecord> records = CalibrationCheckRecords(validation.records, objects);
@@ -37,18 +53,26 @@ std::vector<size_t> FlagSessionWideErrors(SessionValidation& validation, const s
   } else {
     const CalibrationCheckResult result = CheckCalibration(records, options.calibration);
     summary.ran = true;
-    std::map<std::string, const CheckFinding*> camera_off;
+    std::map<std::string, const CheckFinding*> camera_off, object_off;
     for (const CheckFinding& f : result.findings) {
       summary.findings.push_back(FindingText(f));
       if (f.kind == CheckItemKind::kCameraMount) camera_off[f.name] = &f;
+      if (FlagsItsObject(f, objects, options)) object_off[f.name] = &f;
     }
     for (size_t i = 0; i < validation.records.size(); ++i) {
       RecordCheck& r = validation.records[i];
-      const auto finding = camera_off.find(r.camera);
-      if (r.check.verdict != Verdict::kAccept || finding == camera_off.end()) continue;
+      if (r.check.verdict != Verdict::kAccept) continue;
+      // The camera's finding first: a camera mount error also shows as object mount findings.
+      const auto camera = camera_off.find(r.camera);
+      const auto object = object_off.find(r.name);
+      const CheckFinding* finding = camera != camera_off.end() ? camera->second
+                                    : object != object_off.end() ? object->second
+                                                                 : nullptr;
+      if (!finding) continue;
       r.check.verdict = Verdict::kSuspect;
-      r.check.reason_code = VerdictReason::kCameraMountOff;
-      r.check.reason = FlagReason(*finding->second, records.size(), r.check.reason);
+      r.check.reason_code = finding->kind == CheckItemKind::kCameraMount ? VerdictReason::kCameraMountOff
+                                                                          : VerdictReason::kObjectMountOff;
+      r.check.reason = FlagReason(*finding, records.size(), r.check.reason);
       flagged.push_back(i);
     }
     summary.records_flagged = static_cast<int64_t>(flagged.size());

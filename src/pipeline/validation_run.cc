@@ -106,7 +106,7 @@ RecordCheck RecordCheckFromJson(const nlohmann::json& j, const std::string& wher
   if (f.Has("depth_offset_ns")) r.depth_offset_ns = f.Integer("depth_offset_ns"), r.label_shift_ns = f.Integer("label_shift_ns");
   LabelCheck& c = r.check;
   c.verdict = ParseEnum<Verdict>(f, "verdict", Verdict::kReject);
-  c.reason_code = ParseEnum<VerdictReason>(f, "reason_code", VerdictReason::kCameraMountOff);
+  c.reason_code = ParseEnum<VerdictReason>(f, "reason_code", VerdictReason::kObjectMountOff);
   c.reason = f.String("reason");
   c.scene_points = static_cast<int>(f.Integer("scene_points"));
   if (f.Has("occluder_pixels")) c.occluder_pixels = f.Integer("occluder_pixels");  // written since the depth cut

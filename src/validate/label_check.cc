@@ -122,6 +122,7 @@ std::string_view ToString(VerdictReason reason) {
     case VerdictReason::kTooFewPoints: return "too_few_points";
     case VerdictReason::kUnreadableInput: return "unreadable_input";
     case VerdictReason::kCameraMountOff: return "camera_mount_off";
+    case VerdictReason::kObjectMountOff: return "object_mount_off";
   }
   return "unknown";
 }

@@ -35,6 +35,9 @@ enum class VerdictReason {
   /// Accepted on its own, but the session's records together show this label's camera mount off
   /// (pipeline/session_wide.h): every label of that camera carries the error.
   kCameraMountOff,
+  /// Accepted on its own, but the session's records together show this object's mount off by more than
+  /// the widest per-record bounds (pipeline/session_wide.h): every label of that object carries it.
+  kObjectMountOff,
 };
 std::string_view ToString(VerdictReason reason);
 /// True for the reasons given when the input could not be checked (no estimate was attempted).

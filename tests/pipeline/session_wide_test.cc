@@ -30,7 +30,8 @@ Rigid3d TCameraObject(int camera, int object, double t) {
 
 /// 8 s at 15 Hz per camera; the labels of camera "left" carry `left_mount_error` (E = D L), every record
 /// accepted but every 10th, rejected. Estimates: truth with AR(1) noise (0.8 mm, 0.25 deg, rho 0.7).
-SessionValidation Validation(const Rigid3d& left_mount_error, unsigned seed, int frames = 120) {
+SessionValidation Validation(const Rigid3d& left_mount_error, unsigned seed, int frames = 120,
+                             const Rigid3d& drill_mount_error = Rigid3d::Identity()) {
   std::mt19937 rng(seed);
   std::normal_distribution<double> n(0, 1);
   SessionValidation v;
@@ -47,7 +48,7 @@ SessionValidation Validation(const Rigid3d& left_mount_error, unsigned seed, int
         RecordCheck r;
         r.camera = kCameras[c], r.index = f, r.stamp_ns = static_cast<int64_t>(std::llround(t * 1e9));
         r.object = k + 1, r.name = kObjects[k], r.instance = k + 1;
-        r.T_camera_object_label = c == 0 ? left_mount_error.inverse() * truth : truth;
+        r.T_camera_object_label = (c == 0 ? left_mount_error.inverse() * truth : truth) * (k == 1 ? drill_mount_error : Rigid3d());
         r.check.estimated = r.check.segicp_reliable = true;
         const Eigen::Quaterniond turn(Eigen::AngleAxisd(0.25 * M_PI / 180 * e.head<3>().norm(), e.head<3>().normalized()));
         r.check.T_camera_object_segicp = Rigid3d(turn * truth.rotation(), truth.translation() + 0.8e-3 * e.tail<3>());
@@ -105,6 +106,39 @@ TEST(SessionWide, AFiveMillimetreCameraMountFlagsThatCamerasAcceptedLabelsOnly) 
     ASSERT_EQ(v.summary.session_wide->findings.size(), 1u);
     EXPECT_EQ(v.summary.session_wide->findings[0].rfind("camera_mount left", 0), 0u) << v.summary.session_wide->findings[0];
   }
+}
+
+TEST(SessionWide, ACentimetreObjectMountFlagsThatObjectsAcceptedLabelsOnly) {
+  const Rigid3d one_cm(Eigen::Quaterniond::Identity(), Eigen::Vector3d(0.006, 0.0, -0.008));
+  for (unsigned seed : {1u, 2u, 3u}) {
+    SessionValidation v = Validation(Rigid3d::Identity(), seed, 120, one_cm);
+    const std::vector<size_t> flagged = FlagSessionWideErrors(v, Objects(), {});
+    EXPECT_EQ(flagged.size(), 216u) << "seed " << seed;  // the drill's 240 records but its 24 rejected ones
+    for (const RecordCheck& r : v.records) {
+      if (r.name != "drill" || r.index % 10 == 0) {
+        EXPECT_NE(r.check.verdict, Verdict::kSuspect) << r.name << " " << r.index;
+      } else {
+        EXPECT_EQ(r.check.reason_code, VerdictReason::kObjectMountOff);
+        EXPECT_NE(r.check.reason.find("together find object_mount drill "), std::string::npos) << r.check.reason;
+        EXPECT_NE(r.check.reason.find("every label of this object carries it"), std::string::npos) << r.check.reason;
+      }
+    }
+    EXPECT_EQ(v.summary.reasons["object_mount_off"], 216);
+  }
+}
+
+TEST(SessionWide, AnObjectMountWithinTheRecordsBoundsOrDeclaredRangeBiasedFlagsNothing) {
+  // 3 mm: found, but within the widest per-record bounds (5 mm), which the records judge themselves.
+  SessionValidation small = Validation(Rigid3d::Identity(), 1, 120, Rigid3d(Eigen::Quaterniond::Identity(), Eigen::Vector3d(0.003, 0, 0)));
+  EXPECT_TRUE(FlagSessionWideErrors(small, Objects(), {}).empty());
+  ASSERT_TRUE(small.summary.session_wide);
+  EXPECT_EQ(small.summary.session_wide->findings.size(), 1u);
+  // 1 cm on an object whose time-of-flight range is declared biased: its finding can be that bias.
+  std::vector<ValidationObject> objects = Objects();
+  objects[1].tof_range_biased = true;
+  SessionValidation declared = Validation(Rigid3d::Identity(), 1, 120, Rigid3d(Eigen::Quaterniond::Identity(), Eigen::Vector3d(0.006, 0.0, -0.008)));
+  EXPECT_TRUE(FlagSessionWideErrors(declared, objects, {}).empty());
+  EXPECT_EQ(declared.summary.session_wide->findings.size(), 1u);
 }
 
 TEST(SessionWide, TooFewReliableRecordsSayWhyItDidNotRun) {
