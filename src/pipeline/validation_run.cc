@@ -77,9 +77,11 @@ nlohmann::json ToJson(const RecordCheck& r) {
     }
     if (!c.outline.empty()) {
       nlohmann::json steps = nlohmann::json::array();
-      for (const OutlineStep& step : c.outline)
+      for (const OutlineStep& step : c.outline) {
         steps.push_back({{"direction", step.direction}, {"shift_mm", 1e3 * step.shift_m}, {"rise", step.rise},
                          {"judged", step.judged}});
+        if (step.across_ray) steps.back()["across_ray"] = true;
+      }
       j["outline"] = steps;
     }
     j["precision_position_mm"] = c.precision.position_mm;
@@ -133,8 +135,8 @@ RecordCheck RecordCheckFromJson(const nlohmann::json& j, const std::string& wher
       if (!steps.is_array()) throw InputError(where, "outline: expected an array");
       for (size_t i = 0; i < steps.size(); ++i) {
         const JsonFields g(steps[i], Str(where, " outline[", i, "]"));
-        c.outline.push_back({static_cast<int>(g.Integer("direction")), 1e-3 * g.Number("shift_mm"), g.Number("rise"),
-                             g.Bool("judged")});
+        c.outline.push_back({static_cast<int>(g.Integer("direction")), g.Has("across_ray") && g.Bool("across_ray"),
+                             1e-3 * g.Number("shift_mm"), g.Number("rise"), g.Bool("judged")});
       }
     }
     if (f.Has("resolution_position_mm"))  // written since the floor takes the depth's resolution

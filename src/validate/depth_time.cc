@@ -62,6 +62,7 @@ DepthTimeMoves MoveLabelsToDepthTime(const SessionReader& session, std::vector<R
   // Written after every interpolation, so each reads the labels as labelled.
   for (size_t i = 0; i < records.size(); ++i) {
     if (shift_ns[i] == 0) continue;
+    records[i].T_camera_object_as_labelled = records[i].T_camera_object_label;
     records[i].T_camera_object_label = moved[i];
     records[i].label_shift_ns = shift_ns[i];
   }

@@ -347,10 +347,14 @@ std::optional<LabelCheck> CheckFrameInput(const DepthImage& depth_m, const Pinho
 LabelCheck CheckLabelInFrame(const DepthImage& depth_m, const PinholeCamera& camera, const LabelImage& mask,
                              uint16_t label_id, const Rigid3d& T_camera_object_label, const CropSource& model,
                              const std::vector<ModelCrop>& view_crops, const ValidateOptions& options,
-                             bool mask_at_label) {
+                             const MaskAtLabel* mask_at_label) {
   if (auto bad = CheckFrameInput(depth_m, camera, mask, label_id)) return *bad;
   const ObjectInFrame object(depth_m, camera, mask, label_id, T_camera_object_label, model, options);
-  const OutlineFrame outline = object.Outline();
+  OutlineFrame outline = object.Outline();
+  if (mask_at_label) {
+    outline.T_camera_object_label = mask_at_label->T_camera_object;
+    outline.range_biased = mask_at_label->range_biased;
+  }
   LabelCheck check = CheckLabel(object.SceneCloud(), T_camera_object_label, object.crops(), view_crops, options,
                                 object.label_crops(), mask_at_label ? &outline : nullptr);
   check.occluder_pixels = object.occluder_pixels();

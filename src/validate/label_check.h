@@ -111,14 +111,21 @@ LabelCheck CheckLabelWithTrack(const PointCloud& scene_camera, const Rigid3d& T_
                                const CropSource& model, const TrackStep& track, const ValidateOptions& options,
                                const CropSource* label_model = nullptr, const OutlineFrame* outline = nullptr);
 
+/// A frame's mask as the label run drew it: the model's silhouette at `T_camera_object`, which the
+/// outline estimate reads (validate/outline.h).
+struct MaskAtLabel {
+  Rigid3d T_camera_object;    ///< where it was drawn: the label as labelled, before a move to the depth's time
+  bool range_biased = false;  ///< OutlineFrame::range_biased
+};
+
 /// From a frame: the object's scene cloud is cut from `depth_m` by `mask == label_id`. Bad input (no
 /// depth, a mask of another size, an empty mask, too few points) gives a suspect verdict with the
-/// reason, never an exception or a crash. `mask_at_label`: `mask` is the label run's, rendered at the
-/// label pose, and the outline estimate may read it as the model's silhouette there.
+/// reason, never an exception or a crash. With `mask_at_label`, `mask` is the label run's and the
+/// outline estimate runs; without, it is a user's mask and it does not.
 LabelCheck CheckLabelInFrame(const DepthImage& depth_m, const PinholeCamera& camera, const LabelImage& mask,
                              uint16_t label_id, const Rigid3d& T_camera_object_label, const CropSource& model,
                              const std::vector<ModelCrop>& view_crops, const ValidateOptions& options,
-                             bool mask_at_label = false);
+                             const MaskAtLabel* mask_at_label = nullptr);
 
 /// The input checks of CheckLabelInFrame alone: a suspect LabelCheck naming the problem (no depth, sizes
 /// differ, empty mask), or nullopt when the object's cloud can be cut from the frame.

@@ -125,9 +125,15 @@ class OutlineCost {
   double visible_points() const { return visible_points_; }
 
   double operator()(const Rigid3d& T_camera_object) const {
-    int seen = 0;
-    return crop_weight_ * Unsupported(crop_, T_camera_object, &seen) + pixel_weight_ * Unexplained(T_camera_object);
+    return OverNothing(T_camera_object) + pixel_weight_ * Unexplained(T_camera_object);
   }
+
+  /// The first part alone: the model over no measured surface. It reads neither the label pose nor its mask.
+  double OverNothing(const Rigid3d& T_camera_object) const {
+    int seen = 0;
+    return crop_weight_ * Unsupported(crop_, T_camera_object, &seen);
+  }
+
 
  private:
   /// The crop points near the outline at T, or outside the image (they may come into it).
@@ -249,6 +255,49 @@ class LineSearch {
   std::map<int, double> values_;  // sample index (s / step_m) -> cost
 };
 
+/// The line search of `cost` along `d` (analysis coordinates) from *T: the step, and *T moved to the
+/// minimum when the outline bounds the move both ways. `visible`: crop points the frame sees.
+OutlineStep SearchAlong(const std::function<double(const Rigid3d&)>& cost, double visible, const Vector6d& d,
+                        const OutlineOptions& options, const ObservabilityOptions& observability, const Observability& o,
+                        Rigid3d* T) {
+  const Rigid3d start = *T;
+  const LineSearch line([&](double s) { return cost(MovedAlong(start, s * d, o.center_object, o.radius_m)); },
+                        options.step_m, options.search_m);
+  OutlineStep step;
+  const double s = line.Minimum();
+  const double rise = std::min(line.At(s - observability.probe_m), line.At(s + observability.probe_m)) - line.At(s);
+  step.rise = visible > 0 ? rise / visible : 0.0;
+  step.judged = visible > 0 && rise >= options.min_rise * visible && rise >= observability.probe_min_lost_points;
+  if (step.judged) {
+    step.shift_m = s;
+    *T = MovedAlong(start, s * d, o.center_object, o.radius_m);
+  }
+  return step;
+}
+
+/// The moves across the ray through the analysis centre: along the image's x, then its y. They take the
+/// model's side of the cost alone, which reads neither the label pose nor its mask: the estimate these
+/// moves make owes nothing to the label it is then compared with (the measured surface's side reads the
+/// label run's mask as the model's silhouette).
+std::vector<OutlineStep> MoveAcrossRay(const OutlineCost& cost, const OutlineOptions& options,
+                                       const ObservabilityOptions& observability, const Observability& o,
+                                       Rigid3d* T_camera_object) {
+  const Eigen::Vector3d ray = (*T_camera_object * o.center_object).normalized();
+  const Eigen::Vector3d x_camera = Eigen::Vector3d::UnitY().cross(ray).normalized();
+  const Eigen::Vector3d across[2] = {x_camera, ray.cross(x_camera)};
+  std::vector<OutlineStep> steps;
+  for (int i = 0; i < 2; ++i) {
+    Vector6d d;
+    d << Eigen::Vector3d::Zero(), T_camera_object->rotation().inverse() * across[i];
+    OutlineStep step = SearchAlong([&](const Rigid3d& T) { return cost.OverNothing(T); }, cost.visible_points(), d,
+                                   options, observability, o, T_camera_object);
+    step.direction = i;
+    step.across_ray = true;
+    steps.push_back(step);
+  }
+  return steps;
+}
+
 }  // namespace
 
 std::vector<OutlineStep> EstimateAlongOutline(const OutlineFrame& frame, const OutlineOptions& options,
@@ -267,25 +316,19 @@ std::vector<OutlineStep> EstimateAlongOutline(const OutlineFrame& frame, const O
       continue;
     }
     if (!cost) cost.emplace(frame, options, observability, *T_camera_object);
-    const Rigid3d start = *T_camera_object;
-    const LineSearch line([&](double s) { return (*cost)(MovedAlong(start, s * d, o->center_object, o->radius_m)); },
-                          options.step_m, options.search_m);
-    OutlineStep step;
-    step.direction = k;
-    const double s = line.Minimum(), visible = cost->visible_points();
-    const double rise = std::min(line.At(s - observability.probe_m), line.At(s + observability.probe_m)) - line.At(s);
-    step.rise = visible > 0 ? rise / visible : 0.0;
-    step.judged = visible > 0 && rise >= options.min_rise * visible && rise >= observability.probe_min_lost_points;
     // The outline, not the probe, judges the slide: judged, the estimate moves to the outline's minimum.
-    if (step.judged) {
-      step.shift_m = s;
-      *T_camera_object = MovedAlong(start, s * d, o->center_object, o->radius_m);
-    }
+    OutlineStep step = SearchAlong(*cost, cost->visible_points(), d, options, observability, *o, T_camera_object);
+    step.direction = k;
     o->judged[k] = step.judged;
     o->probe_loss[k] = step.rise;
     steps.push_back(step);
   }
   SummariseObservability(o);
+  if (frame.range_biased) {
+    if (!cost) cost.emplace(frame, options, observability, *T_camera_object);
+    const std::vector<OutlineStep> across = MoveAcrossRay(*cost, options, observability, *o, T_camera_object);
+    steps.insert(steps.end(), across.begin(), across.end());
+  }
   return steps;
 }
 

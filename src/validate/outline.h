@@ -30,9 +30,12 @@ struct OutlineFrame {
   const LabelImage* mask = nullptr;         ///< the check's mask (occluders in front cut to 0)
   const LabelImage* label_mask = nullptr;   ///< the label run's mask, rendered at T_camera_object_label
   uint16_t label_id = 0;
-  Rigid3d T_camera_object_label;
+  Rigid3d T_camera_object_label;            ///< where `label_mask` was drawn (the label as labelled)
   const CropSource* model = nullptr;        ///< crops of the whole model (not clipped by the frame)
   double occluder_margin_m = 0.03;          ///< ValidateOptions::occluder_margin_m
+  /// The depth's range to this object is biased along the ray (objects.yaml `tof_range_biased` seen by a
+  /// time-of-flight camera): its position across the ray is taken from the outline too (below).
+  bool range_biased = false;
 };
 
 struct OutlineOptions {
@@ -55,7 +58,8 @@ struct OutlineOptions {
 
 /// What the outline estimate did along one direction.
 struct OutlineStep {
-  int direction = -1;          ///< column of Observability::directions
+  int direction = -1;          ///< column of Observability::directions; across the ray: 0 the image's x, 1 its y
+  bool across_ray = false;     ///< a move across the camera's ray (OutlineFrame::range_biased)
   double shift_m = 0.0;        ///< the move applied (0 when not judged)
   double rise = 0.0;           ///< the smaller of the two rises, as a share of the visible crop
   bool judged = false;
@@ -65,6 +69,13 @@ struct OutlineStep {
 /// `T_camera_object` to the outline's best agreement when the outline bounds it both ways, and judges it
 /// by the outline alone (replacing the probe's judgement and probe_loss); a turn no normal constrains is
 /// left unjudged. Returns the steps made, one per such slide. `o`'s summary sentences are renewed.
+///
+/// When `frame.range_biased`, the estimate is then moved across the ray through the analysis centre, along
+/// the image's x and then its y, to the minimum of the model's side of the cost (crop points over no
+/// measured surface) wherever that bounds the move both ways (two more steps, `across_ray`). A
+/// time-of-flight camera's multipath error lies in each pixel's range, not in which pixels see the object,
+/// so the outline is not biased where the rigid fit of the deformed surface is (it shifts sideways as well
+/// as back). These moves judge nothing: the directions stay as the analysis found them.
 std::vector<OutlineStep> EstimateAlongOutline(const OutlineFrame& frame, const OutlineOptions& options,
                                               const ObservabilityOptions& observability, Rigid3d* T_camera_object,
                                               Observability* o);

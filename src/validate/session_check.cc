@@ -120,11 +120,15 @@ struct ObjectModel {
   std::unique_ptr<CropSource> source;  ///< computes crops (z-buffer or renderer)
   std::unique_ptr<CachedCropSource> crops;  ///< each view's crop once, from `source`
   std::vector<ModelCrop> view_crops;  ///< for the view-sphere seed
+  bool tof_range_biased = false;      ///< ValidationObject::tof_range_biased
+  /// On this camera its range is biased along the ray: its position across the ray is the outline's.
+  bool RangeBiasedOn(const CameraStreamInfo& camera) const { return tof_range_biased && camera.time_of_flight(); }
 };
 
 ObjectModel LoadModel(const ValidationObject& object, const SessionCheckOptions& options) {
   const Mesh mesh = LoadMesh(object.mesh_path.string(), object.unit_scale_to_m);
   ObjectModel model;
+  model.tof_range_biased = object.tof_range_biased;
   model.options = OptionsForObject(mesh, options.validate);
   model.thinned_options = model.options;
   model.thinned_options.scene_voxel_m = 0;
@@ -180,7 +184,8 @@ void CheckFrame(const SessionReader& session, const LabelRunView& labels, const 
                 const SessionCheckOptions& options, std::vector<RecordCheck>& records, const std::vector<size_t>& group) {
   const RecordCheck& first = records[group.front()];
   const FrameInputs in = LoadFrame(session, labels, first.camera, first.index, options);
-  const PinholeCamera& camera = session.manifest().FindCamera(first.camera)->color_camera;
+  const CameraStreamInfo& info = *session.manifest().FindCamera(first.camera);
+  const PinholeCamera& camera = info.color_camera;
   for (size_t i : group) {
     RecordCheck& r = records[i];
     const RecordMask mask = MaskOf(in, r, options);
@@ -188,9 +193,11 @@ void CheckFrame(const SessionReader& session, const LabelRunView& labels, const 
     r.mode = "frame";
     if (!in.depth_problem.empty() || !mask.problem.empty())
       r.check = *InputProblem(in, mask, camera);
-    else
+    else {
+      const MaskAtLabel drawn{r.T_camera_object_of_masks(), model.RangeBiasedOn(info)};
       r.check = CheckLabelInFrame(in.depth_m, camera, *mask.mask, mask.value, r.T_camera_object_label, *model.crops,
-                                  model.view_crops, model.options, options.masks_dir.empty());
+                                  model.view_crops, model.options, options.masks_dir.empty() ? &drawn : nullptr);
+    }
     Score(in, options, r);
   }
 }
@@ -214,7 +221,8 @@ bool ClearAgreement(const LabelCheck& c, const ValidateOptions& options) {
 /// One record through its instance's tracker, with the frame's inputs already read.
 void CheckTracked(const FrameInputs& in, const SessionReader& session, const ObjectModel& model,
                   const SessionCheckOptions& options, ObjectTracker& tracker, int64_t& last_stamp_ns, RecordCheck& r) {
-  const PinholeCamera& camera = session.manifest().FindCamera(r.camera)->color_camera;
+  const CameraStreamInfo& info = *session.manifest().FindCamera(r.camera);
+  const PinholeCamera& camera = info.color_camera;
   const RecordMask mask = MaskOf(in, r, options);
   if (auto bad = InputProblem(in, mask, camera)) {
     r.check = *bad;  // the tracker skips the frame: its filter bridges the gap at the next one
@@ -241,7 +249,9 @@ void CheckTracked(const FrameInputs& in, const SessionReader& session, const Obj
                                       seed_from_label ? &r.T_camera_object_label : nullptr, &frame_model,
                                       every > 0 && r.index % every == 0);
   // The label run's masks are the models' silhouettes at the labels: the outline estimate reads them so.
-  const OutlineFrame outline_frame = object.Outline();
+  OutlineFrame outline_frame = object.Outline();
+  outline_frame.range_biased = model.RangeBiasedOn(info);
+  outline_frame.T_camera_object_label = r.T_camera_object_of_masks();
   const OutlineFrame* outline = options.masks_dir.empty() ? &outline_frame : nullptr;
   r.check = CheckLabelWithTrack(scene, r.T_camera_object_label, frame_model, step, model.thinned_options, label_model,
                                 outline);

@@ -101,6 +101,12 @@ struct RecordCheck {
   Rigid3d T_camera_object_label;
   int64_t depth_offset_ns = 0;  ///< the frame's depth exposure minus its colour exposure (0: together)
   int64_t label_shift_ns = 0;   ///< what the label was moved by: depth_offset_ns, or 0 = as labelled
+  /// The pose as labelled, at the colour exposure, when the label was moved (label_shift_ns != 0): the
+  /// label run drew the frame's masks there.
+  std::optional<Rigid3d> T_camera_object_as_labelled;
+  const Rigid3d& T_camera_object_of_masks() const {
+    return T_camera_object_as_labelled ? *T_camera_object_as_labelled : T_camera_object_label;
+  }
   LabelCheck check;
   std::string mode;                             ///< "frame", or the tracker phase ("acquisition", "tracking")
   std::optional<SegmentationScore> segmentation;  ///< with user masks, when either mask has pixels

@@ -18,7 +18,7 @@ RecordCheck CheckedRecord() {
   c.verdict = Verdict::kSuspect, c.reason_code = VerdictReason::kDiffers, c.reason = "SegICP differs";
   c.estimated = true;
   c.T_camera_object_segicp = Rigid3d::FromRvec({0.1, 0.2, 0.3}, {0.11, -0.2, 1.4});
-  c.outline = {{3, 0.0074, 0.052, true}, {4, 0.0, 0.011, false}};
+  c.outline = {{3, false, 0.0074, 0.052, true}, {4, false, 0.0, 0.011, false}, {1, true, -0.0021, 0.31, true}};
   return r;
 }
 
@@ -27,8 +27,13 @@ TEST(ValidationRecordJson, CarriesTheOutlineSteps) {
   ASSERT_TRUE(j.contains("outline"));
   EXPECT_DOUBLE_EQ(j["outline"][0]["shift_mm"].get<double>(), 7.4);
   const RecordCheck back = RecordCheckFromJson(j, "validation.jsonl:1");
-  ASSERT_EQ(back.check.outline.size(), 2u);
+  ASSERT_EQ(back.check.outline.size(), 3u);
   EXPECT_EQ(back.check.outline[0].direction, 3);
+  EXPECT_FALSE(back.check.outline[0].across_ray);
+  EXPECT_FALSE(j["outline"][0].contains("across_ray"));  // written only for a move across the ray
+  EXPECT_TRUE(back.check.outline[2].across_ray);
+  EXPECT_EQ(back.check.outline[2].direction, 1);
+  EXPECT_NEAR(back.check.outline[2].shift_m, -0.0021, 1e-12);
   EXPECT_NEAR(back.check.outline[0].shift_m, 0.0074, 1e-12);
   EXPECT_DOUBLE_EQ(back.check.outline[1].rise, 0.011);
   EXPECT_TRUE(back.check.outline[0].judged);
@@ -45,6 +50,9 @@ TEST(ValidationRecordJson, AMalformedOutlineIsAnErrorNamingTheField) {
     EXPECT_NE(std::string(e.what()).find("validation.jsonl:7 outline[1]"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("judged"), std::string::npos) << e.what();
   }
+  j["outline"][1]["judged"] = false;
+  j["outline"][2]["across_ray"] = 1;
+  EXPECT_THROW(RecordCheckFromJson(j, "validation.jsonl:7"), InputError);
   j["outline"] = 3;
   EXPECT_THROW(RecordCheckFromJson(j, "validation.jsonl:7"), InputError);
 }

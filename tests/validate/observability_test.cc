@@ -128,7 +128,8 @@ TEST_F(TableTest, ReportsACentimetreSlideInItsPlaneAsUnobservableNotAsAgreement)
 TEST_F(TableTest, ItsOutlineDoesNotBoundASlideWhenItsEdgesAreOutOfView) {
   // The session check's path: the mask is the label run's, here all table whichever way it slides.
   const Rigid3d label = T_camera_table_ * Rigid3d::FromRvec({0, 0, 0}, {0.007, 0.007, 0});
-  const LabelCheck c = CheckLabelInFrame(frame_.depth, Kinect(), frame_.mask, 4, label, model_, {}, options_, true);
+  const MaskAtLabel drawn{label};
+  const LabelCheck c = CheckLabelInFrame(frame_.depth, Kinect(), frame_.mask, 4, label, model_, {}, options_, &drawn);
   ASSERT_FALSE(c.outline.empty()) << c.reason;
   for (const OutlineStep& step : c.outline) EXPECT_FALSE(step.judged) << c.reason;
   EXPECT_EQ(c.reason_code, VerdictReason::kAgreesWhereObservable) << c.reason;

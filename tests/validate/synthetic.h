@@ -1,6 +1,7 @@
 #pragma once
 // Synthetic clouds with known geometry for the validator tests.
 #include <cmath>
+#include <functional>
 #include <random>
 
 #include "core/camera.h"
@@ -69,9 +70,14 @@ inline TriangleMesh Slab(double x_m, double y_m, double thickness_m) {
   return mesh;
 }
 
-/// Dense surface samples splatted with a nearest-depth test (the mesh seen by the camera), 1 mm noise;
-/// the mask holds 4 where the mesh is seen.
-inline Frame SplatFrame(const TriangleMesh& mesh, const Rigid3d& T_camera_object, std::mt19937& rng) {
+/// How far a surface point's range is pushed back along its ray (a time-of-flight camera's multipath),
+/// metres, from the point in the model and camera frames; its pixel is kept.
+using RangePush = std::function<double(const Eigen::Vector3d& p_model, const Eigen::Vector3d& p_camera)>;
+
+/// Dense surface samples splatted with a nearest-depth test (the mesh seen by the camera), `noise_m`
+/// noise; the mask holds 4 where the mesh is seen.
+inline Frame SplatFrame(const TriangleMesh& mesh, const Rigid3d& T_camera_object, std::mt19937& rng,
+                        const RangePush& push = {}, double noise_m = 0.001) {
   const PinholeCamera camera = Kinect();
   Frame f{DepthImage(640, 480, 0.0f), LabelImage(640, 480, 0)};
   for (const auto& p_model : SampleSurface(mesh, 0.0007)) {
@@ -80,10 +86,11 @@ inline Frame SplatFrame(const TriangleMesh& mesh, const Rigid3d& T_camera_object
     if (!px) continue;
     const int u = static_cast<int>(std::lround(px->x())), v = static_cast<int>(std::lround(px->y()));
     if (!f.depth.contains(u, v) || (f.depth.at(u, v) != 0.0f && p.z() >= f.depth.at(u, v))) continue;
-    f.depth.at(u, v) = static_cast<float>(p.z());
+    f.depth.at(u, v) = static_cast<float>(push ? p.z() + push(p_model, p) * p.normalized().z() : p.z());
     f.mask.at(u, v) = 4;
   }
-  std::normal_distribution<double> noise(0.0, 0.001);
+  if (!(noise_m > 0)) return f;
+  std::normal_distribution<double> noise(0.0, noise_m);
   for (auto& d : f.depth.data)
     if (d > 0) d += static_cast<float>(noise(rng));
   return f;
