@@ -134,7 +134,6 @@ class OutlineCost {
     return crop_weight_ * Unsupported(crop_, T_camera_object, &seen);
   }
 
-
  private:
   /// The crop points near the outline at T, or outside the image (they may come into it).
   void KeepNearOutline(const PointCloud& sampled, const Rigid3d& T, const OutlineBand& band) {
