@@ -350,13 +350,9 @@ LabelCheck CheckLabelInFrame(const DepthImage& depth_m, const PinholeCamera& cam
                              const MaskAtLabel* mask_at_label) {
   if (auto bad = CheckFrameInput(depth_m, camera, mask, label_id)) return *bad;
   const ObjectInFrame object(depth_m, camera, mask, label_id, T_camera_object_label, model, options);
-  OutlineFrame outline = object.Outline();
-  if (mask_at_label) {
-    outline.T_camera_object_label = mask_at_label->T_camera_object;
-    outline.range_biased = mask_at_label->range_biased;
-  }
+  const std::optional<OutlineFrame> outline = mask_at_label ? std::optional(object.Outline(*mask_at_label)) : std::nullopt;
   LabelCheck check = CheckLabel(object.SceneCloud(), T_camera_object_label, object.crops(), view_crops, options,
-                                object.label_crops(), mask_at_label ? &outline : nullptr);
+                                object.label_crops(), outline ? &*outline : nullptr);
   check.occluder_pixels = object.occluder_pixels();
   return check;
 }
@@ -368,7 +364,6 @@ ObjectInFrame::ObjectInFrame(const DepthImage& depth_m, const PinholeCamera& cam
       camera_(camera),
       label_mask_(mask),
       label_id_(label_id),
-      T_camera_object_label_(T_camera_object_label),
       occluder_margin_m_(options.occluder_margin_m),
       model_(model),
       filter_crops_(options.occluder_margin_m > 0),
@@ -379,8 +374,9 @@ ObjectInFrame::ObjectInFrame(const DepthImage& depth_m, const PinholeCamera& cam
 
 PointCloud ObjectInFrame::SceneCloud() const { return DepthToPointsMasked(depth_m_, camera_, mask_, label_id_); }
 
-OutlineFrame ObjectInFrame::Outline() const {
-  return {&depth_m_, &camera_, &mask_, &label_mask_, label_id_, T_camera_object_label_, &model_, occluder_margin_m_};
+OutlineFrame ObjectInFrame::Outline(const MaskAtLabel& drawn) const {
+  return {&depth_m_, &camera_, &mask_, &label_mask_, label_id_, drawn.T_camera_object, &model_, occluder_margin_m_,
+          drawn.range_biased};
 }
 
 std::optional<OccluderCut> CutOccludersAtLabel(const DepthImage& depth_m, const PinholeCamera& camera,

@@ -155,8 +155,8 @@ class ObjectInFrame {
   PointCloud SceneCloud() const;
   const CropSource& crops() const { return filter_crops_ ? visible_ : model_; }
   const CropSource* label_crops() const { return cut_ ? &as_masked_ : nullptr; }
-  /// The frame for the outline estimate (its mask taken as rendered at the label pose).
-  OutlineFrame Outline() const;
+  /// The frame for the outline estimate, its mask as the label run drew it.
+  OutlineFrame Outline(const MaskAtLabel& drawn) const;
   int64_t occluder_pixels() const { return cut_ ? cut_->pixels : 0; }
 
  private:
@@ -164,7 +164,6 @@ class ObjectInFrame {
   const PinholeCamera& camera_;
   const LabelImage& label_mask_;  // as given
   uint16_t label_id_;
-  Rigid3d T_camera_object_label_;
   double occluder_margin_m_;
   const CropSource& model_;
   bool filter_crops_;

@@ -125,6 +125,11 @@ struct ObjectModel {
   bool RangeBiasedOn(const CameraStreamInfo& camera) const { return tof_range_biased && camera.time_of_flight(); }
 };
 
+/// How the label run drew record r's mask, for the outline estimate.
+MaskAtLabel DrawnAt(const RecordCheck& r, const ObjectModel& model, const CameraStreamInfo& camera) {
+  return {r.T_camera_object_of_masks(), model.RangeBiasedOn(camera)};
+}
+
 ObjectModel LoadModel(const ValidationObject& object, const SessionCheckOptions& options) {
   const Mesh mesh = LoadMesh(object.mesh_path.string(), object.unit_scale_to_m);
   ObjectModel model;
@@ -194,7 +199,7 @@ void CheckFrame(const SessionReader& session, const LabelRunView& labels, const 
     if (!in.depth_problem.empty() || !mask.problem.empty())
       r.check = *InputProblem(in, mask, camera);
     else {
-      const MaskAtLabel drawn{r.T_camera_object_of_masks(), model.RangeBiasedOn(info)};
+      const MaskAtLabel drawn = DrawnAt(r, model, info);
       r.check = CheckLabelInFrame(in.depth_m, camera, *mask.mask, mask.value, r.T_camera_object_label, *model.crops,
                                   model.view_crops, model.options, options.masks_dir.empty() ? &drawn : nullptr);
     }
@@ -249,9 +254,7 @@ void CheckTracked(const FrameInputs& in, const SessionReader& session, const Obj
                                       seed_from_label ? &r.T_camera_object_label : nullptr, &frame_model,
                                       every > 0 && r.index % every == 0);
   // The label run's masks are the models' silhouettes at the labels: the outline estimate reads them so.
-  OutlineFrame outline_frame = object.Outline();
-  outline_frame.range_biased = model.RangeBiasedOn(info);
-  outline_frame.T_camera_object_label = r.T_camera_object_of_masks();
+  const OutlineFrame outline_frame = object.Outline(DrawnAt(r, model, info));
   const OutlineFrame* outline = options.masks_dir.empty() ? &outline_frame : nullptr;
   r.check = CheckLabelWithTrack(scene, r.T_camera_object_label, frame_model, step, model.thinned_options, label_model,
                                 outline);
