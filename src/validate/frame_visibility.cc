@@ -32,21 +32,13 @@ ModelCrop VisibleInFrameCropSource::Visible(const Rigid3d& T_camera_model, Model
   // The rotation as a matrix once per crop: applying the quaternion costs twice the arithmetic per point.
   const Eigen::Matrix3d R = T_camera_model.rotation_matrix();
   const Eigen::Vector3d t = T_camera_model.translation();
-  // Without distortion, Project's arithmetic inline in place of its call (core/pinhole.h: the same pixels).
   const bool pinhole = !camera_.has_distortion();
   for (size_t i = 0; i < crop.points_model.size(); ++i) {
     const Eigen::Vector3d& p_model = crop.points_model[i];
     const Eigen::Vector3d p_camera = R * p_model + t;
-    int u = -1, v = -1;
-    if (pinhole) {
-      if (p_camera.z() <= 0) continue;
-      const Eigen::Vector2d pixel = ProjectWithoutDistortion(camera_, p_camera);
-      u = NearestPixel(pixel.x()), v = NearestPixel(pixel.y());
-    } else {
-      const auto pixel = camera_.Project(p_camera);
-      if (!pixel) continue;
-      u = NearestPixel(pixel->x()), v = NearestPixel(pixel->y());
-    }
+    const auto pixel = NearestPixelOf(camera_, pinhole, p_camera);
+    if (!pixel) continue;
+    const int u = pixel->x(), v = pixel->y();
     if (!depth_m_.contains(u, v)) continue;  // outside the image: the frame cannot see it
     const float measured_m = depth_m_.at(u, v);
     const uint16_t owner = mask_.at(u, v);

@@ -11,6 +11,7 @@
 
 #include "core/camera.h"
 #include "core/image.h"
+#include "core/pinhole.h"
 #include "validate/model_crop.h"
 
 namespace mocap {
@@ -23,6 +24,21 @@ inline int NearestPixel(double x) {
   const int whole = static_cast<int>(x);  // toward zero
   const double rest = x - whole;           // exact
   return whole + (rest >= 0.5) - (rest <= -0.5);
+}
+
+/// The pixel index nearest to camera-frame point p's projection, or nullopt behind the camera (or where a
+/// distorted projection fails); not checked against the image. `pinhole` is !camera.has_distortion(),
+/// decided once per loop (the call is out of line): then Project's arithmetic runs inline (core/pinhole.h:
+/// the same pixels).
+inline std::optional<Eigen::Vector2i> NearestPixelOf(const PinholeCamera& camera, bool pinhole, const Eigen::Vector3d& p) {
+  if (pinhole) {
+    if (!(p.z() > 0)) return std::nullopt;
+    const Eigen::Vector2d pixel = ProjectWithoutDistortion(camera, p);
+    return Eigen::Vector2i(NearestPixel(pixel.x()), NearestPixel(pixel.y()));
+  }
+  const auto pixel = camera.Project(p);
+  if (!pixel) return std::nullopt;
+  return Eigen::Vector2i(NearestPixel(pixel->x()), NearestPixel(pixel->y()));
 }
 
 class VisibleInFrameCropSource : public CropSource {

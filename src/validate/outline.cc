@@ -8,7 +8,6 @@
 #include <vector>
 
 #include "core/check.h"
-#include "core/pinhole.h"
 #include "validate/frame_visibility.h"
 #include "validate/point_grid.h"
 
@@ -29,17 +28,9 @@ using Vector6d = Eigen::Matrix<double, 6, 1>;
 /// The pixel of a camera-frame point, or nullopt (behind the camera or outside the image).
 std::optional<Eigen::Vector2i> PixelOf(const PinholeCamera& camera, const Eigen::Vector3d& p_camera, const DepthImage& image) {
   if (!(p_camera.z() > 0)) return std::nullopt;
-  Eigen::Vector2d pixel;
-  if (camera.has_distortion()) {
-    const auto projected = camera.Project(p_camera);
-    if (!projected) return std::nullopt;
-    pixel = *projected;
-  } else {
-    pixel = ProjectWithoutDistortion(camera, p_camera);
-  }
-  const int u = NearestPixel(pixel.x()), v = NearestPixel(pixel.y());
-  if (!image.contains(u, v)) return std::nullopt;
-  return Eigen::Vector2i(u, v);
+  const auto pixel = NearestPixelOf(camera, !camera.has_distortion(), p_camera);
+  if (!pixel || !image.contains(pixel->x(), pixel->y())) return std::nullopt;
+  return pixel;
 }
 
 /// The pixels within about `radius_px` of the label mask's outline, on either side, over the box of the
