@@ -171,6 +171,13 @@ void SetAcceptBounds(const VerdictOptions& o, LabelCheck* c) {
 
 void DecideVerdict(const VerdictOptions& o, LabelCheck* c) {
   const std::string label_score = Str("label score ", Fixed(c->label_score, 2));
+  if (c->estimated && c->observability.supported_points < o.min_supported_points) {
+    c->verdict = Verdict::kSuspect;
+    c->reason_code = VerdictReason::kTooFewPoints;
+    c->reason = Str("too few points: the estimate rests on ", c->observability.supported_points,
+                    " depth points of the object (< ", o.min_supported_points, "), the label is not checked (", label_score, ")");
+    return;
+  }
   if (!c->segicp_reliable) {
     const bool misfit = c->label_score < o.reject_label_score;
     c->verdict = misfit ? Verdict::kReject : Verdict::kSuspect;

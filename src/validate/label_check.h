@@ -30,7 +30,7 @@ enum class VerdictReason {
   kNoDepth,              ///< the frame has no depth image
   kMaskSizeMismatch,     ///< the mask and depth sizes differ
   kEmptyMask,            ///< no pixel carries the object's label
-  kTooFewPoints,         ///< too few valid depth points under the mask
+  kTooFewPoints,         ///< too few valid depth points under the mask, or supporting the estimate
   kUnreadableInput,      ///< the frame's depth or mask file is missing or cannot be read
   /// Accepted on its own, but the session's records together show this label's camera mount off
   /// (pipeline/session_wide.h): every label of that camera carries the error.

@@ -32,6 +32,7 @@ void VerdictOptions::check() const {
     throw InputError("VerdictOptions", "success thresholds must be positive");
   if (!(reject_label_score >= 0 && reject_label_score <= 1))
     throw InputError("VerdictOptions", "reject_label_score must lie in [0, 1]");
+  if (min_supported_points < 0) throw InputError("VerdictOptions", "min_supported_points must be >= 0");
 }
 
 void ValidateOptions::check() const {

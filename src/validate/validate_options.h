@@ -78,6 +78,11 @@ struct VerdictOptions {
   double success_rotation_deg = 15.0;
   /// Without a reliable estimate, a label whose own alignment score falls below this is rejected.
   double reject_label_score = 0.3;
+  /// An estimate the depth supports with fewer model points than this (Observability::supported_points)
+  /// checks nothing: the label is `too_few_points`, as when the mask holds too few depth points. Six
+  /// degrees of freedom fitted to a few dozen noisy points follow the noise and whatever else lies in
+  /// the mask (docs/validation.md "Too few points").
+  int min_supported_points = 30;
   void check() const;
 };
 

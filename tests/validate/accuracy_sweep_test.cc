@@ -264,7 +264,7 @@ TEST_P(AccuracySweep, CorrectLabelsAcceptedAndWrongLabelsFlagged) {
 INSTANTIATE_TEST_SUITE_P(Scenarios, AccuracySweep,
                          ::testing::Values("carry", "hand_passes", "handheld", "close", "far", "hand_front",
                                            "two_moving", "kinect2", "kinect2_handheld", "close_in_front", "close_range",
-                                           "dark_surfaces", "hand_close"),
+                                           "dark_surfaces", "hand_close", "close_lift"),
                          [](const ::testing::TestParamInfo<std::string>& info) { return info.param; });
 
 }  // namespace

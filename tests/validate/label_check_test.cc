@@ -122,6 +122,31 @@ TEST(Verdict, RulesFollowTheThresholds) {
   EXPECT_EQ(ToString(c.reason_code), "no_reliable_estimate");
 }
 
+// An estimate on a handful of depth points checks nothing, whichever way it points: at close range the
+// accuracy sweep's bottle, almost without depth, accepted a label on 3 points and rejected one on 4.
+TEST(Verdict, AnEstimateOnTooFewPointsLeavesTheLabelUnchecked) {
+  VerdictOptions o;
+  LabelCheck c;
+  c.estimated = c.segicp_reliable = true;
+  c.observability.supported_points = o.min_supported_points - 1;
+  for (const double position_mm : {1.0, 40.0}) {
+    c.errors = {position_mm, 0.5, 0.5};
+    DecideVerdict(o, &c);
+    EXPECT_EQ(c.verdict, Verdict::kSuspect);
+    EXPECT_EQ(c.reason_code, VerdictReason::kTooFewPoints) << c.reason;
+    EXPECT_TRUE(IsBadInput(c.reason_code));
+    EXPECT_NE(c.reason.find("29 depth points"), std::string::npos) << c.reason;
+  }
+  c.observability.supported_points = o.min_supported_points;
+  DecideVerdict(o, &c);
+  EXPECT_EQ(c.reason_code, VerdictReason::kDisagrees) << c.reason;
+  c.errors = {1.0, 0.5, 0.5};
+  DecideVerdict(o, &c);
+  EXPECT_EQ(c.verdict, Verdict::kAccept) << c.reason;
+  o.min_supported_points = -1;
+  EXPECT_THROW(o.check(), InputError);
+}
+
 // A hand holding the object puts points a centimetre in front of its surface, inside its mask (the
 // labeller's visibility tolerance is about 2 cm). The robust point-to-plane fit gives them no weight.
 TEST_F(LabelCheckTest, FingersOnTheSurfaceDoNotPullTheEstimate) {
