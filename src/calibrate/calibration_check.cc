@@ -1,5 +1,6 @@
 #include "calibrate/calibration_check.h"
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -82,20 +83,48 @@ const std::array<double, 6>& BlockOf(const Fit& fit, const Item& item) {
 /// interval of a vector's length is taken along its direction (or the widest axis when it is zero).
 struct PartSize {
   double size = 0, ci95 = INFINITY;
+  Eigen::Vector3d measured = Eigen::Vector3d::Zero();  ///< a mount part's vector within what the records measure
 };
-PartSize SizeOf(const Item& item, const Fit& fit, size_t slot, double widen) {
+
+/// `v` within the directions the records measure: those a mount part's covariance gives variance to (the
+/// pseudo-inverse's: none for a direction no record measures, see check_model::FitItems), to a 95 %
+/// half-width of at most `max_ci95`. A direction measured more loosely than the smallest error worth
+/// reporting is left out: it is hardly measured, and a fit free along it can wander far (a funnel's
+/// mount turned 45 deg about its axis of revolution, whose spin no record measures, while each record's
+/// spin removal holds only to first order).
+Eigen::Vector3d MeasuredPart(const Eigen::Matrix3d& cov, const Eigen::Vector3d& v, double max_ci95) {
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
+  Eigen::Vector3d out = Eigen::Vector3d::Zero();
+  for (int i = 0; i < 3; ++i) {
+    const double variance = eig.eigenvalues()(i);
+    if (variance > 1e-9 * eig.eigenvalues().maxCoeff() && 1.96 * std::sqrt(variance) <= max_ci95)
+      out += eig.eigenvectors().col(i) * eig.eigenvectors().col(i).dot(v);
+  }
+  return out;
+}
+
+/// The smallest error of an item worth reporting, in the units of its parameters (rad, m, s).
+double MinSize(const Item& item, const CalibrationCheckOptions& o) {
+  if (item.kind == CheckItemKind::kLatency) return 1e-3 * o.min_latency_ms;
+  if (item.part == Part::kTranslation) return 1e-3 * o.min_mount_mm;
+  return RadFromDeg(item.kind == CheckItemKind::kCameraMount ? o.min_camera_mount_deg : o.min_object_mount_deg);
+}
+PartSize SizeOf(const Item& item, const Fit& fit, size_t slot, double widen, const CalibrationCheckOptions& o) {
   const bool has_cov = slot < fit.covariance.size();
   if (item.kind == CheckItemKind::kLatency)
-    return {1e3 * fit.params.latency_s, has_cov ? 1e3 * 1.96 * widen * std::sqrt(fit.covariance[slot](0, 0)) : INFINITY};
+    return {1e3 * fit.params.latency_s,
+            has_cov && fit.covariance[slot](0, 0) > 0 ? 1e3 * 1.96 * widen * std::sqrt(fit.covariance[slot](0, 0)) : INFINITY};
   const std::array<double, 6>& p = BlockOf(fit, item);
   const int first = item.part == Part::kRotation ? 0 : 3;
   const Eigen::Vector3d v(p[first], p[first + 1], p[first + 2]);
   const double unit = item.part == Part::kRotation ? DegFromRad(1.0) : 1e3;
-  if (!has_cov) return {unit * v.norm(), INFINITY};
+  if (!has_cov) return {unit * v.norm(), INFINITY, v};
   const Eigen::Matrix3d cov = fit.covariance[slot];
-  const double se = v.norm() > 0 ? std::sqrt(std::max(0.0, v.normalized().dot(cov * v.normalized())))
-                                 : std::sqrt(std::max(0.0, cov.diagonal().maxCoeff()));
-  return {unit * v.norm(), unit * 1.96 * widen * se};
+  if (!(cov.diagonal().maxCoeff() > 0)) return {0.0, INFINITY};  // nothing of it is measured
+  const Eigen::Vector3d measured = MeasuredPart(cov * widen * widen, v, MinSize(item, o));
+  const double se = measured.norm() > 0 ? std::sqrt(std::max(0.0, measured.normalized().dot(cov * measured.normalized())))
+                                        : std::sqrt(std::max(0.0, cov.diagonal().maxCoeff()));
+  return {unit * measured.norm(), unit * 1.96 * widen * se, measured};
 }
 
 /// Large enough to matter and significant (z standard errors; the interval is 1.96 of them).
@@ -184,7 +213,8 @@ std::vector<CheckRecord> WithoutScatteredObjects(std::span<const CheckRecord> re
 /// The items let in, one finding per mount (its parts merged) and one for the latency, in the order
 /// their first part came in.
 std::vector<CheckFinding> Findings(const check_model::Prepared& prepared, const std::vector<Item>& in, const std::vector<double>& gains,
-                                   const std::vector<std::vector<std::string>>& alike, const Fit& fit, double widen, double base_cost) {
+                                   const std::vector<std::vector<std::string>>& alike, const Fit& fit, double widen, double base_cost,
+                                   const CalibrationCheckOptions& options) {
   std::vector<CheckFinding> findings;
   std::vector<std::pair<CheckItemKind, int>> keys;
   for (size_t i = 0; i < in.size(); ++i) {
@@ -198,15 +228,19 @@ std::vector<CheckFinding> Findings(const check_model::Prepared& prepared, const 
     f.kind = in[i].kind;
     f.explained_share += base_cost > 0 ? gains[i] / base_cost : 0;
     f.alike.insert(f.alike.end(), alike[i].begin(), alike[i].end());
-    const PartSize size = SizeOf(in[i], fit, i, widen);
+    const PartSize size = SizeOf(in[i], fit, i, widen, options);
     if (in[i].kind == CheckItemKind::kLatency) {
       f.latency_error_ms = size.size, f.latency_ci95_ms = size.ci95;
       continue;
     }
     f.name = in[i].kind == CheckItemKind::kCameraMount ? prepared.cameras[static_cast<size_t>(in[i].index)]
                                                        : prepared.objects[static_cast<size_t>(in[i].index)];
-    const std::array<double, 6>& p = BlockOf(fit, in[i]);
-    f.correction = Rigid3d::FromRvec(Eigen::Vector3d(p[0], p[1], p[2]), Eigen::Vector3d(p[3], p[4], p[5]));
+    // The correction holds what the records measure of each part let in (a part not let in stays zero).
+    Eigen::Matrix<double, 6, 1> p = Eigen::Matrix<double, 6, 1>::Zero();
+    for (size_t j = 0; j < in.size(); ++j)
+      if (in[j].kind == in[i].kind && in[j].index == in[i].index)
+        p.segment<3>(in[j].part == Part::kRotation ? 0 : 3) = SizeOf(in[j], fit, j, widen, options).measured;
+    f.correction = Rigid3d::FromRvec(p.head<3>(), p.tail<3>());
     if (in[i].part == Part::kRotation) f.size_deg = size.size, f.ci95_deg = size.ci95;
     else f.size_mm = size.size, f.ci95_mm = size.ci95;
   }
@@ -242,7 +276,7 @@ CalibrationCheckResult CheckCalibration(std::span<const CheckRecord> records, co
     // object's SegICP bias) must not hide it.
     std::vector<bool> reportable;
     for (const Candidate& c : ranked)
-      reportable.push_back(c.gain > 0 && Reportable(c.item, SizeOf(c.item, c.fit, in.size(), ArWidening(ResidualAutocorrelation(prepared, c.fit.params))),
+      reportable.push_back(c.gain > 0 && Reportable(c.item, SizeOf(c.item, c.fit, in.size(), ArWidening(ResidualAutocorrelation(prepared, c.fit.params)), options),
                                                     options));
     const size_t best = static_cast<size_t>(std::find(reportable.begin(), reportable.end(), true) - reportable.begin());
     if (best == ranked.size()) break;
@@ -255,7 +289,7 @@ CalibrationCheckResult CheckCalibration(std::span<const CheckRecord> records, co
     fit = std::move(ranked[best].fit);
   }
   result.autocorrelation = ResidualAutocorrelation(prepared, fit.params);
-  result.findings = Findings(prepared, in, gains, alike, fit, ArWidening(result.autocorrelation), base_cost);
+  result.findings = Findings(prepared, in, gains, alike, fit, ArWidening(result.autocorrelation), base_cost, options);
   for (size_t i = 0; i < in.size(); ++i)
     if (!alike[i].empty())
       result.warnings.push_back(Str(ItemName(prepared, in[i]), " and ", alike[i].front(),

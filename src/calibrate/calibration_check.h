@@ -40,6 +40,17 @@ struct CheckRecord {
   /// with the label's spin (validate/label_check.h ApplySymmetry), so the rotation about this axis is
   /// not a measurement and is left out of the residual.
   Eigen::Vector3d spin_axis_mesh = Eigen::Vector3d::Zero();
+  /// The directions of the estimate the depth judged (the validator's analysis, validate/observability.h),
+  /// when it judged fewer than six: orthonormal columns in analysis coordinates [L w; v] (mesh frame,
+  /// about center_mesh, rotation scaled by L = radius_m). Along the others the estimate is where the label
+  /// or the outline put it, not a measurement (a table top's slide in its plane), so the residual is
+  /// taken in these alone. None: all six.
+  struct Judged {
+    Eigen::Matrix<double, 6, Eigen::Dynamic> directions;
+    Eigen::Vector3d center_mesh = Eigen::Vector3d::Zero();
+    double radius_m = 1.0;
+  };
+  std::optional<Judged> judged = std::nullopt;
 };
 
 struct CalibrationCheckOptions {

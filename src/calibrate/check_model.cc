@@ -43,9 +43,13 @@ struct RecordCost {
     // A body of revolution's spin is the label's by construction: only the tilt of its axis counts.
     const T along = aa_err[0] * r_.spin_axis_camera.x() + aa_err[1] * r_.spin_axis_camera.y() + aa_err[2] * r_.spin_axis_camera.z();
     for (int i = 0; i < 3; ++i) aa_err[i] -= along * r_.spin_axis_camera(i);
-    for (int i = 0; i < 3; ++i) {
-      residual[i] = aa_err[i] / r_.sigma_rad;
-      residual[3 + i] = (T(r_.p_segicp_m(i)) - p_pred[i]) / r_.sigma_m;
+    // Only the directions the depth judged are measured.
+    T raw[6];
+    for (int i = 0; i < 3; ++i) raw[i] = aa_err[i], raw[3 + i] = T(r_.p_segicp_m(i)) - p_pred[i];
+    for (int i = 0; i < 6; ++i) {
+      T judged = T(0);
+      for (int j = 0; j < 6; ++j) judged += r_.judged_part(i, j) * raw[j];
+      residual[i] = judged / (i < 3 ? r_.sigma_rad : r_.sigma_m);
     }
     return true;
   }
@@ -78,10 +82,9 @@ double* BlockOf(Params& params, const Item& item) {
 int FirstColumn(const Item& item) { return item.kind == CheckItemKind::kLatency ? 0 : item.part == Part::kRotation ? 0 : 3; }
 int Width(const Item& item) { return item.kind == CheckItemKind::kLatency ? 1 : 3; }
 
-/// (J^T J)^-1 of the robustified Jacobian over the free items' parameters (a problem of the same records
+/// (J^T J)^+ of the robustified Jacobian over the free items' parameters (a problem of the same records
 /// with every block of a free item fully free, the columns of the held parts then dropped), split per
-/// item and scaled by scale^2; empty when J^T J is (numerically) singular: an item the records cannot
-/// determine.
+/// item and scaled by scale^2; empty when J^T J is zero.
 std::vector<Eigen::MatrixXd> Covariances(const std::vector<ModelRecord>& records, Params params, const std::vector<Item>& free,
                                          double huber, double scale) {
   ceres::Problem problem;
@@ -105,10 +108,27 @@ std::vector<Eigen::MatrixXd> Covariances(const std::vector<ModelRecord>& records
     for (int k = crs.rows[static_cast<size_t>(r)]; k < crs.rows[static_cast<size_t>(r) + 1]; ++k)
       for (size_t c = 0; c < columns.size(); ++c)
         if (columns[c] == crs.cols[static_cast<size_t>(k)]) J(r, static_cast<Eigen::Index>(c)) = crs.values[static_cast<size_t>(k)];
-  const Eigen::MatrixXd JtJ = J.transpose() * J;
-  const Eigen::VectorXd eigen = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(JtJ).eigenvalues();
-  if (!(eigen.minCoeff() > 1e-10 * eigen.maxCoeff())) return {};
-  const Eigen::MatrixXd covariance = JtJ.inverse() * scale * scale;
+  // A pseudo-inverse where a direction no record measures lies within one item (a table's mount slid in
+  // its plane, where every record's estimate is the label's): it gets no variance, and SizeOf leaves it
+  // out of the item's size. A direction shared by two items (a camera's mount against the one object it
+  // sees) leaves both undetermined: no covariance.
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(J.transpose() * J);
+  const Eigen::VectorXd& eigen = eig.eigenvalues();
+  if (!(eigen.maxCoeff() > 0)) return {};
+  Eigen::VectorXd inverse = Eigen::VectorXd::Zero(eigen.size());
+  for (Eigen::Index i = 0; i < eigen.size(); ++i) {
+    if (eigen(i) > 1e-10 * eigen.maxCoeff()) {
+      inverse(i) = 1.0 / eigen(i);
+      continue;
+    }
+    int items_in = 0, offset = 0;
+    for (const Item& item : free) {
+      items_in += eig.eigenvectors().col(i).segment(offset, Width(item)).norm() > 1e-6;
+      offset += Width(item);
+    }
+    if (items_in > 1) return {};
+  }
+  const Eigen::MatrixXd covariance = eig.eigenvectors() * inverse.asDiagonal() * eig.eigenvectors().transpose() * scale * scale;
   std::vector<Eigen::MatrixXd> out;
   int offset = 0;
   for (const Item& item : free) {

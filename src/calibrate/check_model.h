@@ -22,6 +22,9 @@ struct ModelRecord {
   Eigen::Vector3d w_rad_per_s = Eigen::Vector3d::Zero();  ///< label's angular velocity, camera frame
   bool has_motion = false;
   Eigen::Vector3d spin_axis_camera = Eigen::Vector3d::Zero();  ///< unit, or zero: see CheckRecord
+  /// The residual's part in the directions the depth judged (CheckRecord::judged): a projection of the
+  /// unscaled residual [rotation rad; position m] (camera frame); the identity when all six were.
+  Eigen::Matrix<double, 6, 6> judged_part = Eigen::Matrix<double, 6, 6>::Identity();
   double sigma_m = 1e-3, sigma_rad = 1e-3;  ///< the object's robust residual scales
 };
 

@@ -15,6 +15,29 @@ int IndexOf(std::vector<std::string>& names, const std::string& name) {
   return static_cast<int>(names.size()) - 1;
 }
 
+Eigen::Matrix3d Hat(const Eigen::Vector3d& v) {
+  Eigen::Matrix3d m;
+  m << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
+  return m;
+}
+
+/// The projection of a residual [a; d] (camera frame: a turn a, the mesh origin moved by d) onto the
+/// judged directions. A point x of the mesh moves by a x (R x) + d, so in analysis coordinates the
+/// residual is u = [L R^T a; R^T (d - (R c) x a)]; its judged part u' = B B^T u is taken back by the
+/// inverse map a = R u'_w / L, d = R u'_v + (R c) x a.
+Eigen::Matrix<double, 6, 6> JudgedPart(const CheckRecord::Judged& judged, const Eigen::Matrix3d& R) {
+  const double L = judged.radius_m;
+  const Eigen::Matrix3d C = Hat(R * judged.center_mesh);
+  Eigen::Matrix<double, 6, 6> to = Eigen::Matrix<double, 6, 6>::Zero(), from = Eigen::Matrix<double, 6, 6>::Zero();
+  to.topLeftCorner<3, 3>() = L * R.transpose();
+  to.bottomLeftCorner<3, 3>() = -R.transpose() * C;
+  to.bottomRightCorner<3, 3>() = R.transpose();
+  from.topLeftCorner<3, 3>() = R / L;
+  from.bottomLeftCorner<3, 3>() = C * R / L;
+  from.bottomRightCorner<3, 3>() = R;
+  return from * judged.directions * judged.directions.transpose() * to;
+}
+
 Prepared BuildIndex(std::span<const CheckRecord> records) {
   Prepared index;
   std::vector<ModelRecord>& model = index.records;
@@ -27,6 +50,7 @@ Prepared BuildIndex(std::span<const CheckRecord> records) {
     if (m.q_label.dot(m.q_segicp) < 0) m.q_segicp.coeffs() *= -1;
     m.p_label_m = r.T_camera_mesh_label.translation(), m.p_segicp_m = r.T_camera_mesh_segicp.translation();
     if (r.spin_axis_mesh.norm() > 0) m.spin_axis_camera = r.T_camera_mesh_label.rotation() * r.spin_axis_mesh.normalized();
+    if (r.judged) m.judged_part = JudgedPart(*r.judged, r.T_camera_mesh_label.rotation_matrix());
     model.push_back(m);
     tracks[{r.camera, r.instance}].push_back(static_cast<int>(i));
   }

@@ -15,6 +15,18 @@ std::vector<CheckRecord> CalibrationCheckRecords(const std::vector<RecordCheck>&
     out.push_back({r.camera, r.name, r.instance, r.stamp_ns + r.label_shift_ns, r.T_camera_object_label,
                    r.check.T_camera_object_segicp});
     if (const auto it = spin_axes.find(r.object); it != spin_axes.end()) out.back().spin_axis_mesh = it->second;
+    const Observability& o = r.check.observability;
+    if (o.analysed && o.observable < 6) {
+      CheckRecord::Judged judged;
+      judged.directions.resize(6, 0);
+      for (int k = 0; k < 6; ++k)
+        if (o.judged[k]) {
+          judged.directions.conservativeResize(6, judged.directions.cols() + 1);
+          judged.directions.rightCols(1) = o.directions.col(k);
+        }
+      judged.center_mesh = o.center_object, judged.radius_m = o.radius_m;
+      out.back().judged = judged;
+    }
   }
   return out;
 }

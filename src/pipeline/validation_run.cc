@@ -1,5 +1,7 @@
 #include "pipeline/validation_run.h"
 
+#include <Eigen/QR>
+#include <cmath>
 #include <fstream>
 
 #include "core/check.h"
@@ -27,6 +29,39 @@ Enum ParseEnum(const JsonFields& f, const char* key, Enum last) {
   for (int v = 0; v <= static_cast<int>(last); ++v)
     if (ToString(static_cast<Enum>(v)) == text) return static_cast<Enum>(v);
   throw InputError(f.where(), Str("field \"", key, "\" has an unknown value \"", text, "\""));
+}
+
+/// The directions the analysis judged, where it judged fewer than six (the calibration check measures
+/// only these, calibrate/calibration_check.h): their analysis coordinates [L w; v] one after another, the
+/// analysis centre (object frame) and L.
+void WriteJudgedDirections(const Observability& o, nlohmann::json& j) {
+  std::vector<double> judged;
+  for (int k = 0; k < 6; ++k)
+    if (o.judged[k]) judged.insert(judged.end(), o.directions.col(k).data(), o.directions.col(k).data() + 6);
+  j["judged_directions"] = judged;
+  j["analysis_center_m"] = Vec(o.center_object);
+  j["analysis_radius_m"] = o.radius_m;
+}
+
+/// The judged directions first, the rest of the basis completed orthonormally (their information is not
+/// kept). Each direction must be a unit vector.
+void ReadJudgedDirections(const JsonFields& f, Observability* o) {
+  const int m = o->observable;
+  if (m < 0) throw InputError(f.where(), "observable_directions must be >= 0");
+  const std::vector<double> judged = f.Numbers("judged_directions", static_cast<size_t>(6 * m));
+  Eigen::Matrix<double, 6, Eigen::Dynamic> columns(6, m);
+  for (int k = 0; k < m; ++k) {
+    columns.col(k) = Eigen::Map<const Eigen::Matrix<double, 6, 1>>(judged.data() + 6 * k);
+    if (std::abs(columns.col(k).norm() - 1.0) > 1e-6)
+      throw InputError(f.where(), Str("judged_directions: direction ", k, " is not a unit vector"));
+  }
+  const Eigen::HouseholderQR<Eigen::Matrix<double, 6, Eigen::Dynamic>> qr(columns);
+  o->directions = qr.householderQ() * Eigen::Matrix<double, 6, 6>::Identity();
+  o->directions.leftCols(m) = columns;
+  for (int k = 0; k < 6; ++k) o->judged[k] = k < m;
+  o->center_object = f.Vector3("analysis_center_m");
+  o->radius_m = f.Number("analysis_radius_m");
+  if (!(o->radius_m > 0)) throw InputError(f.where(), "analysis_radius_m must be positive");
 }
 
 }  // namespace
@@ -74,6 +109,7 @@ nlohmann::json ToJson(const RecordCheck& r) {
       j["judged_where_observable"] = c.judged_where_observable();
       j["residual_rms_mm"] = 1e3 * c.observability.residual_rms_m;
       j["supported_points"] = c.observability.supported_points;
+      if (c.observability.observable < 6) WriteJudgedDirections(c.observability, j);
     }
     if (!c.outline.empty()) {
       nlohmann::json steps = nlohmann::json::array();
@@ -125,6 +161,7 @@ RecordCheck RecordCheckFromJson(const nlohmann::json& j, const std::string& wher
       c.observability.observable = static_cast<int>(f.Integer("observable_directions"));
       c.observability.unobservable = f.Strings("unobservable");
       c.observed = {f.Number("observed_position_error_mm"), f.Number("observed_rotation_error_deg")};
+      if (c.observability.observable < 6 && f.Has("judged_directions")) ReadJudgedDirections(f, &c.observability);
     }
     if (f.Has("accept_position_mm")) {  // written since the bounds are per record
       c.precision = {f.Number("precision_position_mm"), f.Number("precision_rotation_deg")};

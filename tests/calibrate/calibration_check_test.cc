@@ -141,6 +141,68 @@ TEST(CalibrationCheck, AStaticSceneCannotTellCameraFromObjectMount) {
   EXPECT_NE(result.warnings[0].find("almost equally well"), std::string::npos) << result.warnings[0];
 }
 
+/// Records of a fourth object, a 0.6 m table top at the scene's middle, as the validator reports a plane:
+/// its estimate is measured along the top's normal and in its tilts, and is the label's in the top's
+/// plane (slides and spin), where no depth point constrains it. `judged` says so when set.
+std::vector<CheckRecord> TableRecords(const Faults& faults, const Rigid3d& table_O, bool judged, unsigned seed) {
+  const Scene scene;
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> n(0, 1);
+  CheckRecord::Judged directions;
+  directions.radius_m = 0.25;
+  directions.directions = Eigen::Matrix<double, 6, 3>::Zero();
+  directions.directions(0, 0) = directions.directions(1, 1) = directions.directions(5, 2) = 1;  // tilts, height
+  std::vector<CheckRecord> records;
+  for (int f = 0; f < static_cast<int>(Scene::kSeconds * Scene::kRateHz); ++f) {
+    const double t = f / Scene::kRateHz;
+    const Rigid3d T_world_table(Eigen::Quaterniond::Identity(), Eigen::Vector3d(0, 0, -0.02));
+    const Rigid3d truth = scene.T_world_camera(t).inverse() * T_world_table;
+    const Rigid3d label = faults.camera_D.inverse() * truth * table_O.inverse();
+    // The truth's difference from the label, object frame, kept in the judged directions only.
+    const Rigid3d delta = label.inverse() * truth;
+    Eigen::Vector3d w = delta.rvec(), v = delta.translation();
+    w.z() = 0, v.x() = 0, v.y() = 0;
+    const Rigid3d estimate_exact = label * Rigid3d::FromRvec(w, v);
+    const Rigid3d estimate(ExpSO3(RadFromDeg(0.1) * Eigen::Vector3d(n(rng), n(rng), n(rng))) * estimate_exact.rotation(),
+                           estimate_exact.translation() + 0.5e-3 * Eigen::Vector3d(n(rng), n(rng), n(rng)));
+    records.push_back({"kinect", "table", 4, static_cast<int64_t>(std::llround(t * 1e9)), label, estimate});
+    if (judged) records.back().judged = directions;
+  }
+  return records;
+}
+
+TEST(CalibrationCheck, MeasuresOnlyTheDirectionsTheDepthJudged) {
+  Faults faults;
+  faults.camera_D = Rigid3d(ExpSO3(Eigen::Vector3d::Zero()), Eigen::Vector3d(0.003, -0.004, 0.0));  // 5 mm
+  for (const bool judged : {false, true}) {
+    std::vector<CheckRecord> records = Records(faults, 1);
+    const std::vector<CheckRecord> table = TableRecords(faults, Rigid3d(), judged, 2);
+    records.insert(records.end(), table.begin(), table.end());
+    const CalibrationCheckResult result = CheckCalibration(records);
+    ASSERT_GE(result.findings.size(), 1u);
+    EXPECT_EQ(result.findings[0].kind, CheckItemKind::kCameraMount);
+    EXPECT_NEAR(result.findings[0].size_mm, 5.0, 0.5);
+    // Read as measurements, the table's estimates held at the label in its plane come out as a table
+    // mount that undoes the camera's shift there.
+    if (!judged) {
+      ASSERT_EQ(result.findings.size(), 2u);
+      EXPECT_EQ(result.findings[1].name, "table");
+      continue;
+    }
+    EXPECT_EQ(result.findings.size(), 1u) << result.findings.back().name << " " << result.findings.back().size_mm << " mm";
+  }
+  // A table mount off along its normal is measured, and only that part is reported and corrected.
+  const Rigid3d table_O(Eigen::Quaterniond::Identity(), Eigen::Vector3d(0.0, 0.0, 0.008));
+  std::vector<CheckRecord> records = Records({}, 3);
+  const std::vector<CheckRecord> table = TableRecords({}, table_O, true, 4);
+  records.insert(records.end(), table.begin(), table.end());
+  const CalibrationCheckResult result = CheckCalibration(records);
+  ASSERT_EQ(result.findings.size(), 1u);
+  EXPECT_EQ(result.findings[0].name, "table");
+  EXPECT_NEAR(result.findings[0].size_mm, 8.0, 0.5);
+  EXPECT_LT(TranslationDistanceM(result.findings[0].correction, table_O), 0.5e-3);
+}
+
 TEST(CalibrationCheck, TooFewRecordsSayWhatToRecord) {
   std::vector<CheckRecord> records = Records({}, 1);
   records.resize(12);

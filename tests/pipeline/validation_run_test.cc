@@ -57,5 +57,47 @@ TEST(ValidationRecordJson, AMalformedOutlineIsAnErrorNamingTheField) {
   EXPECT_THROW(RecordCheckFromJson(j, "validation.jsonl:7"), InputError);
 }
 
+// A table top's record: its slides and spin unjudged. The judged directions come back for the calibration
+// check, which measures only them (calibrate/calibration_check.h).
+TEST(ValidationRecordJson, CarriesTheDirectionsTheDepthJudged) {
+  RecordCheck r = CheckedRecord();
+  Observability& o = r.check.observability;
+  o.analysed = true;
+  o.directions = Eigen::Matrix<double, 6, 6>::Identity();
+  o.directions.topLeftCorner<2, 2>() << std::sqrt(0.5), -std::sqrt(0.5), std::sqrt(0.5), std::sqrt(0.5);
+  o.judged = {true, false, true, false, false, true};
+  o.observable = 3;
+  o.center_object = {0.1, 0.2, -0.01};
+  o.radius_m = 0.31;
+  const nlohmann::json j = ToJson(r);
+  ASSERT_EQ(j["judged_directions"].size(), 18u);
+  const RecordCheck back = RecordCheckFromJson(j, "validation.jsonl:7");
+  const Observability& b = back.check.observability;
+  EXPECT_EQ(b.observable, 3);
+  EXPECT_TRUE(b.judged[0] && b.judged[1] && b.judged[2] && !b.judged[3] && !b.judged[4] && !b.judged[5]);
+  EXPECT_TRUE(b.directions.col(0).isApprox(o.directions.col(0)));
+  EXPECT_TRUE(b.directions.col(1).isApprox(o.directions.col(2)));
+  EXPECT_TRUE(b.directions.col(2).isApprox(o.directions.col(5)));
+  EXPECT_TRUE((b.directions.transpose() * b.directions).isIdentity(1e-12));  // the basis completed
+  EXPECT_TRUE(b.center_object.isApprox(o.center_object));
+  EXPECT_DOUBLE_EQ(b.radius_m, 0.31);
+  // A record with all six judged writes none.
+  r.check.observability.judged.fill(true), r.check.observability.observable = 6;
+  EXPECT_FALSE(ToJson(r).contains("judged_directions"));
+  // Malformed: a count that does not match, a direction that is not a unit vector.
+  nlohmann::json bad = j;
+  bad["judged_directions"].erase(bad["judged_directions"].begin());
+  EXPECT_THROW(RecordCheckFromJson(bad, "validation.jsonl:7"), InputError);
+  bad = j;
+  bad["judged_directions"][0] = 2.0;
+  try {
+    RecordCheckFromJson(bad, "validation.jsonl:7");
+    FAIL() << "accepted a direction that is not a unit vector";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("validation.jsonl:7"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("judged_directions"), std::string::npos) << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace mocap::pipeline
