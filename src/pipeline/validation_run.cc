@@ -46,7 +46,7 @@ void WriteJudgedDirections(const Observability& o, nlohmann::json& j) {
 /// The judged directions first, the rest of the basis completed orthonormally (their information is not
 /// kept). Each direction must be a unit vector.
 void ReadJudgedDirections(const JsonFields& f, Observability* o) {
-  const int m = o->observable;
+  const int m = o->observable;  // written as the count of the judged directions
   if (m < 0) throw InputError(f.where(), "observable_directions must be >= 0");
   const std::vector<double> judged = f.Numbers("judged_directions", static_cast<size_t>(6 * m));
   Eigen::Matrix<double, 6, Eigen::Dynamic> columns(6, m);
@@ -109,7 +109,8 @@ nlohmann::json ToJson(const RecordCheck& r) {
       j["judged_where_observable"] = c.judged_where_observable();
       j["residual_rms_mm"] = 1e3 * c.observability.residual_rms_m;
       j["supported_points"] = c.observability.supported_points;
-      if (c.observability.observable < 6) WriteJudgedDirections(c.observability, j);
+      if (std::count(c.observability.judged.begin(), c.observability.judged.end(), true) < 6)
+        WriteJudgedDirections(c.observability, j);
     }
     if (!c.outline.empty()) {
       nlohmann::json steps = nlohmann::json::array();
