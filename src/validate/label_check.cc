@@ -5,6 +5,7 @@
 
 #include "core/check.h"
 #include "validate/frame_visibility.h"
+#include "validate/range_push.h"
 
 namespace mocap {
 namespace {
@@ -70,6 +71,19 @@ void RefineEstimate(const PointGrid& grid, const CropSource& model, const Valida
     check->segicp_score = ScoreAlignment(crop.points_model, refined.T_camera_object, grid, options.alignment).score;
 }
 
+/// For an object whose range the depth pushes back (OutlineFrame::range_biased), the estimate fitted
+/// together with that push (validate/range_push.h), and the analysis taken again there.
+void FitRangePush(const PointGrid& grid, const CropSource& model, const ValidateOptions& options, LabelCheck* check) {
+  const ModelCrop crop = model.Crop(check->T_camera_object_segicp);
+  const RangePushFit fit = FitWithRangePush(crop, check->T_camera_object_segicp, grid, options.range_push, options.observability);
+  // No push found (a box's flat faces each keep one incidence): the rigid fit stands.
+  if (fit.iterations == 0 || !(fit.push_m > 0)) return;
+  check->T_camera_object_segicp = fit.T_camera_object;
+  check->range_push_mm = 1e3 * fit.push_m;
+  // The score stays the rigid fit's: at the push's pose the deformed cloud lies behind the model by design.
+  check->observability = AnalyseObservability(model, check->T_camera_object_segicp, grid, options.observability, &crop);
+}
+
 /// Label score, errors, success and verdict once an estimate (or none) is known; `made` as RefineEstimate.
 void Finish(const PointGrid& grid, const Rigid3d& label, const CropSource& model, const CropSource& label_model,
             const ValidateOptions& options, const OutlineFrame* outline, LabelCheck* check,
@@ -77,6 +91,7 @@ void Finish(const PointGrid& grid, const Rigid3d& label, const CropSource& model
   check->label_score = ScoreAlignment(label_model.CropPoints(label).points_model, label, grid, options.alignment).score;
   if (check->estimated) {
     RefineEstimate(grid, model, options, made, check);
+    if (outline && outline->range_biased) FitRangePush(grid, model, options, check);
     // The directions no normal constrains take the outline's estimate and judgement (validate/outline.h).
     // The score stays the fit's: it is taken against the cloud the label's mask cut, which an outline
     // beyond the label's lies partly outside.

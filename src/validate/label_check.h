@@ -74,6 +74,9 @@ struct LabelCheck {
   /// The outline estimate's steps along directions no normal constrains (validate/outline.h); empty
   /// when it did not run.
   std::vector<OutlineStep> outline;
+  /// For an object whose range the depth pushes back (tof_range_biased on a time-of-flight camera): the
+  /// push at grazing incidence fitted with the estimate (validate/range_push.h), mm; 0 otherwise.
+  double range_push_mm = 0.0;
   ObservedDifference observed;
   /// The estimate's precision in the judged directions and the accept bounds derived from it (at most
   /// VerdictOptions' accept_*; those when the analysis did not run), mm and deg; set by DecideVerdict.

@@ -45,6 +45,24 @@ void Describe(const std::vector<Eigen::Vector3d>& motions, const char* kind, con
 
 }  // namespace
 
+/// Geman-McClure weights of point-to-plane residuals `r`, at `sigmas` times their robust spread (MAD),
+/// no narrower than `min_scale_m`; all ones for sigmas = 0 (least squares). A hand holding an object
+/// puts finger points a centimetre or two in front of its surface and inside its mask (the labeller's
+/// visibility tolerance is about 2 cm): at full weight they turned a carried bottle 2 deg about its axis.
+std::vector<double> RobustWeights(const std::vector<double>& r, double sigmas, double min_scale_m) {
+  std::vector<double> w(r.size(), 1.0);
+  if (sigmas <= 0 || r.empty()) return w;
+  std::vector<double> magnitude(r.size());
+  for (size_t i = 0; i < r.size(); ++i) magnitude[i] = std::abs(r[i]);
+  std::nth_element(magnitude.begin(), magnitude.begin() + static_cast<std::ptrdiff_t>(magnitude.size() / 2), magnitude.end());
+  const double c = sigmas * std::max(min_scale_m, 1.4826 * magnitude[magnitude.size() / 2]);
+  for (size_t i = 0; i < r.size(); ++i) {
+    const double u = 1.0 + (r[i] / c) * (r[i] / c);
+    w[i] = 1.0 / (u * u);
+  }
+  return w;
+}
+
 void ObservabilityOptions::check() const {
   if (!(min_information > 0 && min_information < 1)) throw InputError("ObservabilityOptions", "min_information must lie in (0, 1)");
   if (!(probe_m > 0)) throw InputError("ObservabilityOptions", "probe_m must be positive");
@@ -65,9 +83,6 @@ namespace {
 using Vector6d = Eigen::Matrix<double, 6, 1>;
 using Matrix6d = Eigen::Matrix<double, 6, 6>;
 
-/// The robust kernel's scale never drops below the depth's quantisation at a metre (about 1 mm).
-constexpr double kMinRobustScaleM = 0.001;
-
 /// Point-to-plane normal equations at T_camera_object over the supported crop points: A and b of the
 /// residuals n.(T p - s) (camera frame), per point, about the supported points' centroid.
 struct NormalEquations {
@@ -86,24 +101,6 @@ size_t Stride(size_t n, int max_points) { return std::max<size_t>(1, (n + static
 size_t SampledCount(size_t n, int max_points) {
   const size_t stride = Stride(n, max_points);
   return (n + stride - 1) / stride;
-}
-
-/// Geman-McClure weights of point-to-plane residuals `r`, at `sigmas` times their robust spread (MAD),
-/// no narrower than `min_scale_m`; all ones for sigmas = 0 (least squares). A hand holding an object
-/// puts finger points a centimetre or two in front of its surface and inside its mask (the labeller's
-/// visibility tolerance is about 2 cm): at full weight they turned a carried bottle 2 deg about its axis.
-std::vector<double> RobustWeights(const std::vector<double>& r, double sigmas, double min_scale_m) {
-  std::vector<double> w(r.size(), 1.0);
-  if (sigmas <= 0 || r.empty()) return w;
-  std::vector<double> magnitude(r.size());
-  for (size_t i = 0; i < r.size(); ++i) magnitude[i] = std::abs(r[i]);
-  std::nth_element(magnitude.begin(), magnitude.begin() + static_cast<std::ptrdiff_t>(magnitude.size() / 2), magnitude.end());
-  const double c = sigmas * std::max(min_scale_m, 1.4826 * magnitude[magnitude.size() / 2]);
-  for (size_t i = 0; i < r.size(); ++i) {
-    const double u = 1.0 + (r[i] / c) * (r[i] / c);
-    w[i] = 1.0 / (u * u);
-  }
-  return w;
 }
 
 /// `searches`: one memory per crop point, kept over a refinement's iterations (validate/search_memory.h),

@@ -27,6 +27,12 @@ namespace mocap {
 /// polish does not move along them; the outline estimate (validate/outline.h) judges their slides.
 inline constexpr double kMinProbedInformation = 0.01;
 
+/// The robust kernel's scale never drops below the depth's quantisation at a metre (about 1 mm).
+inline constexpr double kMinRobustScaleM = 0.001;
+
+/// Geman-McClure weights of point-to-plane residuals (observability.cc says why).
+std::vector<double> RobustWeights(const std::vector<double>& r, double sigmas, double min_scale_m);
+
 struct ObservabilityOptions {
   /// Information per supporting point from which a direction counts as observable by the surface normals
   /// alone. A direction every point's normal lies along scores 1.

@@ -48,6 +48,7 @@ void ValidateOptions::check() const {
   verdict.check();
   observability.check();
   outline.check();
+  range_push.check();
   if (tracking.theta > acquisition.epsilon)
     throw InputError("ValidateOptions", "tracking.theta must not exceed acquisition.epsilon");
 }

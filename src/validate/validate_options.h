@@ -9,6 +9,7 @@
 #include "validate/outline.h"
 #include "validate/model_crop.h"
 #include "validate/pose_filter.h"
+#include "validate/range_push.h"
 
 namespace mocap {
 
@@ -113,6 +114,8 @@ struct ValidateOptions {
   ObservabilityOptions observability;
   /// The estimate along directions only the object's outline constrains (validate/outline.h).
   OutlineOptions outline;
+  /// The estimate of a range-biased object fitted with its push (validate/range_push.h).
+  RangePushOptions range_push;
   /// Throws InputError naming the first invalid setting.
   void check() const;
 };
