@@ -121,6 +121,7 @@ nlohmann::json ToJson(const RecordCheck& r) {
       }
       j["outline"] = steps;
     }
+    if (c.range_push_mm != 0) j["range_push_mm"] = c.range_push_mm;  // a range-biased object's fitted push
     j["precision_position_mm"] = c.precision.position_mm;
     j["precision_rotation_deg"] = c.precision.rotation_deg;
     j["accept_position_mm"] = c.accept_position_mm;
@@ -177,6 +178,7 @@ RecordCheck RecordCheckFromJson(const nlohmann::json& j, const std::string& wher
                              1e-3 * g.Number("shift_mm"), g.Number("rise"), g.Bool("judged")});
       }
     }
+    if (f.Has("range_push_mm")) c.range_push_mm = f.Number("range_push_mm");  // only for a range-biased object
     if (f.Has("resolution_position_mm"))  // written since the floor takes the depth's resolution
       c.resolution_position_mm = f.Number("resolution_position_mm"),
       c.resolution_rotation_deg = f.Number("resolution_rotation_deg");

@@ -38,6 +38,16 @@ TEST(ValidationRecordJson, CarriesTheOutlineSteps) {
   EXPECT_DOUBLE_EQ(back.check.outline[1].rise, 0.011);
   EXPECT_TRUE(back.check.outline[0].judged);
   EXPECT_FALSE(back.check.outline[1].judged);
+  EXPECT_FALSE(j.contains("range_push_mm"));  // written only for a range-biased object's fitted push
+}
+
+TEST(ValidationRecordJson, CarriesARangeBiasedObjectsPush) {
+  RecordCheck r = CheckedRecord();
+  r.check.range_push_mm = 17.5;
+  nlohmann::json j = ToJson(r);
+  EXPECT_DOUBLE_EQ(RecordCheckFromJson(j, "validation.jsonl:7").check.range_push_mm, 17.5);
+  j["range_push_mm"] = "far";
+  EXPECT_THROW(RecordCheckFromJson(j, "validation.jsonl:7"), InputError);
 }
 
 TEST(ValidationRecordJson, AMalformedOutlineIsAnErrorNamingTheField) {
