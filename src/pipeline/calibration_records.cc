@@ -1,6 +1,5 @@
 #include "pipeline/calibration_records.h"
 
-#include <algorithm>
 #include <map>
 
 namespace mocap::pipeline {
@@ -18,13 +17,7 @@ std::vector<CheckRecord> CalibrationCheckRecords(const std::vector<RecordCheck>&
     if (const auto it = spin_axes.find(r.object); it != spin_axes.end()) out.back().spin_axis_mesh = it->second;
     // Along the directions the depth did not judge the estimate is the label's: no measurement.
     const Observability& o = r.check.observability;
-    const int judged_count = static_cast<int>(std::count(o.judged.begin(), o.judged.end(), true));
-    if (o.analysed && judged_count < 6) {
-      CheckRecord::Judged judged{Eigen::Matrix<double, 6, Eigen::Dynamic>(6, judged_count), o.center_object, o.radius_m};
-      for (int k = 0, column = 0; k < 6; ++k)
-        if (o.judged[k]) judged.directions.col(column++) = o.directions.col(k);
-      out.back().judged = judged;
-    }
+    if (o.analysed && o.observable < 6) out.back().judged = CheckRecord::Judged{JudgedDirections(o), o.center_object, o.radius_m};
   }
   return out;
 }

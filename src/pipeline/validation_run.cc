@@ -35,10 +35,8 @@ Enum ParseEnum(const JsonFields& f, const char* key, Enum last) {
 /// only these, calibrate/calibration_check.h): their analysis coordinates [L w; v] one after another, the
 /// analysis centre (object frame) and L.
 void WriteJudgedDirections(const Observability& o, nlohmann::json& j) {
-  std::vector<double> judged;
-  for (int k = 0; k < 6; ++k)
-    if (o.judged[k]) judged.insert(judged.end(), o.directions.col(k).data(), o.directions.col(k).data() + 6);
-  j["judged_directions"] = judged;
+  const Eigen::Matrix<double, 6, Eigen::Dynamic> judged = JudgedDirections(o);
+  j["judged_directions"] = std::vector<double>(judged.data(), judged.data() + judged.size());
   j["analysis_center_m"] = Vec(o.center_object);
   j["analysis_radius_m"] = o.radius_m;
 }
@@ -109,8 +107,7 @@ nlohmann::json ToJson(const RecordCheck& r) {
       j["judged_where_observable"] = c.judged_where_observable();
       j["residual_rms_mm"] = 1e3 * c.observability.residual_rms_m;
       j["supported_points"] = c.observability.supported_points;
-      if (std::count(c.observability.judged.begin(), c.observability.judged.end(), true) < 6)
-        WriteJudgedDirections(c.observability, j);
+      if (c.observability.observable < 6) WriteJudgedDirections(c.observability, j);
     }
     if (!c.outline.empty()) {
       nlohmann::json steps = nlohmann::json::array();

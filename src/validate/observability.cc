@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <optional>
+#include <tuple>
 
 #include "core/check.h"
 #include "validate/crop_cache.h"
@@ -109,27 +110,21 @@ NormalEquations Build(const PointCloud& points, const PointCloud& normals, const
                       const PointGrid& scene, double gate_m, int max_points, double robust_sigmas,
                       std::vector<SearchMemory>* searches = nullptr) {
   NormalEquations e;
-  std::vector<std::pair<size_t, Eigen::Vector3d>> matches;  // crop index, scene point (camera frame)
-  for (size_t i = 0; i < points.size(); i += Stride(points.size(), max_points)) {
-    const Eigen::Vector3d query = T_camera_object * points[i];
-    double distance_sq = 0;
-    if (searches) {
+  std::vector<CropMatch> matches;
+  if (searches) {
+    for (size_t i = 0; i < points.size(); i += Stride(points.size(), max_points)) {
       SearchMemory& last = (*searches)[i];
+      double distance_sq = 0;
       // From scratch when it must search: between equidistant points it then answers as Nearest does.
-      if (NearestRemembered(scene, query, gate_m, &last, &distance_sq, false))
+      if (NearestRemembered(scene, T_camera_object * points[i], gate_m, &last, &distance_sq, false))
         matches.emplace_back(i, scene.point(last.match));
-      continue;
     }
-    size_t index = 0;
-    if (scene.Nearest(query, gate_m, &index, &distance_sq)) matches.emplace_back(i, scene.point(index));
+  } else {
+    matches = MatchCrop(points, T_camera_object, scene, gate_m, max_points);
   }
   e.supported = static_cast<int>(matches.size());
   if (matches.empty()) return e;
-  for (const auto& [i, s] : matches) e.center += points[i];
-  e.center /= static_cast<double>(matches.size());
-  double radius_sq = 0;
-  for (const auto& [i, s] : matches) radius_sq += (points[i] - e.center).squaredNorm();
-  e.radius_m = std::max(1e-3, std::sqrt(radius_sq / static_cast<double>(matches.size())));
+  std::tie(e.center, e.radius_m) = AnalysisCentre(points, matches);
   const Eigen::Matrix3d R = T_camera_object.rotation_matrix();
   std::vector<double> residuals;
   residuals.reserve(matches.size());
@@ -212,6 +207,34 @@ PointCloud NormalsOf(const ModelCrop& crop, const Rigid3d& T_camera_object, doub
 }
 
 }  // namespace
+
+std::vector<CropMatch> MatchCrop(const PointCloud& points_model, const Rigid3d& T_camera_object, const PointGrid& scene_camera,
+                                 double gate_m, int max_points) {
+  std::vector<CropMatch> matches;
+  for (size_t i = 0; i < points_model.size(); i += Stride(points_model.size(), max_points)) {
+    size_t index = 0;
+    double distance_sq = 0;
+    if (scene_camera.Nearest(T_camera_object * points_model[i], gate_m, &index, &distance_sq))
+      matches.emplace_back(i, scene_camera.point(index));
+  }
+  return matches;
+}
+
+std::pair<Eigen::Vector3d, double> AnalysisCentre(const PointCloud& points_model, const std::vector<CropMatch>& matches) {
+  Eigen::Vector3d center = Eigen::Vector3d::Zero();
+  for (const auto& [i, s] : matches) center += points_model[i];
+  center /= static_cast<double>(matches.size());
+  double radius_sq = 0;
+  for (const auto& [i, s] : matches) radius_sq += (points_model[i] - center).squaredNorm();
+  return {center, std::max(1e-3, std::sqrt(radius_sq / static_cast<double>(matches.size())))};
+}
+
+Eigen::Matrix<double, 6, Eigen::Dynamic> JudgedDirections(const Observability& o) {
+  Eigen::Matrix<double, 6, Eigen::Dynamic> judged(6, std::count(o.judged.begin(), o.judged.end(), true));
+  for (int k = 0, column = 0; k < 6; ++k)
+    if (o.judged[k]) judged.col(column++) = o.directions.col(k);
+  return judged;
+}
 
 Observability AnalyseObservability(const CropSource& model, const Rigid3d& T_camera_object, const PointGrid& scene_camera,
                                    const ObservabilityOptions& options, const ModelCrop* crop_near_pose) {
@@ -340,10 +363,10 @@ EstimatePrecision PrecisionOf(const Observability& o, const Eigen::Vector3d& poi
 void LeaveOutDirection(Observability* o, const Vector6d& u) {
   if (!o->analysed || !(u.norm() > 0)) return;
   const Matrix6d A = o->directions * o->information.asDiagonal() * o->directions.transpose();
-  std::vector<int> judged, unjudged;
-  for (int k = 0; k < 6; ++k) (o->judged[k] ? judged : unjudged).push_back(k);
-  Eigen::MatrixXd J(6, judged.size());
-  for (size_t i = 0; i < judged.size(); ++i) J.col(static_cast<Eigen::Index>(i)) = o->directions.col(judged[i]);
+  std::vector<int> unjudged;
+  for (int k = 0; k < 6; ++k)
+    if (!o->judged[k]) unjudged.push_back(k);
+  const Eigen::MatrixXd J = JudgedDirections(*o);
   const Vector6d inside = J * (J.transpose() * u.normalized());
   if (inside.norm() < 1e-6) return;  // u lies in the unjudged directions already
   const Vector6d e = inside.normalized();

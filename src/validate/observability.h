@@ -14,6 +14,7 @@
 // difference from the label only in the observable ones (docs/validation.md "Degrees of freedom").
 #include <array>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/rigid3.h"
@@ -121,6 +122,20 @@ struct PlaneRefinement {
 PlaneRefinement RefinePointToPlane(const ModelCrop& crop, const Rigid3d& T_camera_object_init,
                                    const PointGrid& scene_camera, const ObservabilityOptions& options,
                                    double first_gate_m = 0.0, const Observability* probed = nullptr);
+
+/// A crop point (its index) matched to a scene point (camera frame).
+using CropMatch = std::pair<size_t, Eigen::Vector3d>;
+
+/// Every k-th crop point (k keeping at most `max_points`) with its nearest scene point within `gate_m`.
+std::vector<CropMatch> MatchCrop(const PointCloud& points_model, const Rigid3d& T_camera_object, const PointGrid& scene_camera,
+                                 double gate_m, int max_points);
+
+/// The origin and scale of the analysis coordinates over matched crop points: their centroid (object
+/// frame) and RMS radius from it (at least 1 mm). Precondition: `matches` is not empty.
+std::pair<Eigen::Vector3d, double> AnalysisCentre(const PointCloud& points_model, const std::vector<CropMatch>& matches);
+
+/// The judged columns of `o.directions`, in order.
+Eigen::Matrix<double, 6, Eigen::Dynamic> JudgedDirections(const Observability& o);
 
 /// True when the probe, not the normals, made some direction of `o` observable (its information is weak
 /// but moving along it loses the outline's support): those are the ones RefinePointToPlane's `probed`

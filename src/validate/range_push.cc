@@ -3,6 +3,7 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <tuple>
 #include <vector>
 
 #include "core/check.h"
@@ -22,11 +23,6 @@ namespace {
 using Vector6d = Eigen::Matrix<double, 6, 1>;
 using Matrix6d = Eigen::Matrix<double, 6, 6>;
 
-struct Match {
-  size_t i;           ///< crop index
-  Eigen::Vector3d s;  ///< scene point, camera frame
-};
-
 struct PushEquations {
   Matrix6d A = Matrix6d::Zero();
   Vector6d b = Vector6d::Zero(), c = Vector6d::Zero();
@@ -35,41 +31,25 @@ struct PushEquations {
   double radius_m = 1.0;
 };
 
-/// Every k-th crop point (k keeping at most max_points) with its nearest scene point within gate_m.
-std::vector<Match> MatchCrop(const PointCloud& points, const Rigid3d& T, const PointGrid& scene, double gate_m, int max_points) {
-  const size_t stride = std::max<size_t>(1, (points.size() + static_cast<size_t>(max_points) - 1) / static_cast<size_t>(max_points));
-  std::vector<Match> matches;
-  for (size_t i = 0; i < points.size(); i += stride) {
-    size_t index = 0;
-    double distance_sq = 0;
-    if (scene.Nearest(T * points[i], gate_m, &index, &distance_sq)) matches.push_back({i, scene.point(index)});
-  }
-  return matches;
-}
-
 /// The point-to-plane normal equations of the pose (A, b: analysis coordinates about `center`, as
 /// observability.h) and of the push (c: its column against the pose's, d: its own, e: its right-hand
 /// side), robustly weighted means over the matches.
 PushEquations Build(const PointCloud& points, const PointCloud& normals, const Rigid3d& T, double push_m,
-                    const std::vector<Match>& matches, double robust_sigmas) {
+                    const std::vector<CropMatch>& matches, double robust_sigmas) {
   PushEquations eq;
-  for (const Match& m : matches) eq.center += points[m.i];
-  eq.center /= static_cast<double>(matches.size());
-  double radius_sq = 0;
-  for (const Match& m : matches) radius_sq += (points[m.i] - eq.center).squaredNorm();
-  eq.radius_m = std::max(1e-3, std::sqrt(radius_sq / static_cast<double>(matches.size())));
+  std::tie(eq.center, eq.radius_m) = AnalysisCentre(points, matches);
   const Eigen::Matrix3d R = T.rotation_matrix();
   std::vector<double> residuals, push_column;
-  for (const Match& m : matches) {
-    const Eigen::Vector3d p = T * points[m.i], n = R * normals[m.i], u = p.normalized();
+  for (const auto& [i, s] : matches) {
+    const Eigen::Vector3d p = T * points[i], n = R * normals[i], u = p.normalized();
     const double cos_theta = std::min(1.0, std::abs(n.dot(u)));
     push_column.push_back((1.0 - cos_theta) * n.dot(u));
-    residuals.push_back(n.dot(p - m.s) + push_m * push_column.back());
+    residuals.push_back(n.dot(p - s) + push_m * push_column.back());
   }
   const std::vector<double> weights = RobustWeights(residuals, robust_sigmas, kMinRobustScaleM);
   double weight_sum = 0;
   for (size_t k = 0; k < matches.size(); ++k) {
-    const size_t i = matches[k].i;
+    const size_t i = matches[k].first;
     Vector6d J;
     J << (points[i] - eq.center).cross(normals[i]) / eq.radius_m, normals[i];
     const double w = weights[k], g = push_column[k], r = residuals[k];
@@ -105,7 +85,7 @@ RangePushFit FitWithRangePush(const ModelCrop& crop, const Rigid3d& T_camera_obj
   RangePushFit out;
   out.T_camera_object = T_camera_object_init;
   for (int iteration = 0; iteration < options.iterations; ++iteration) {
-    const std::vector<Match> matches = MatchCrop(points, out.T_camera_object, scene_camera, options.gate_m, observability.max_points);
+    const std::vector<CropMatch> matches = MatchCrop(points, out.T_camera_object, scene_camera, options.gate_m, observability.max_points);
     if (matches.size() < 10) return out;
     const PushEquations eq = Build(points, normals, out.T_camera_object, out.push_m, matches, observability.robust_sigmas);
     if (!(eq.d > 1e-12)) return out;  // every point faces the camera: no deformation to tell apart
