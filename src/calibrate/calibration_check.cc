@@ -103,11 +103,11 @@ Eigen::Vector3d MeasuredPart(const Eigen::Matrix3d& cov, const Eigen::Vector3d& 
   return out;
 }
 
-/// The smallest error of an item worth reporting, in the units of its parameters (rad, m, s).
-double MinSize(const Item& item, const CalibrationCheckOptions& o) {
-  if (item.kind == CheckItemKind::kLatency) return 1e-3 * o.min_latency_ms;
-  if (item.part == Part::kTranslation) return 1e-3 * o.min_mount_mm;
-  return RadFromDeg(item.kind == CheckItemKind::kCameraMount ? o.min_camera_mount_deg : o.min_object_mount_deg);
+/// The smallest error of an item worth reporting, in the units it is reported in (ms, mm, deg).
+double MinReported(const Item& item, const CalibrationCheckOptions& o) {
+  if (item.kind == CheckItemKind::kLatency) return o.min_latency_ms;
+  if (item.part == Part::kTranslation) return o.min_mount_mm;
+  return item.kind == CheckItemKind::kCameraMount ? o.min_camera_mount_deg : o.min_object_mount_deg;
 }
 PartSize SizeOf(const Item& item, const Fit& fit, size_t slot, double widen, const CalibrationCheckOptions& o) {
   const bool has_cov = slot < fit.covariance.size();
@@ -121,7 +121,7 @@ PartSize SizeOf(const Item& item, const Fit& fit, size_t slot, double widen, con
   if (!has_cov) return {unit * v.norm(), INFINITY, v};
   const Eigen::Matrix3d cov = fit.covariance[slot];
   if (!(cov.diagonal().maxCoeff() > 0)) return {0.0, INFINITY};  // nothing of it is measured
-  const Eigen::Vector3d measured = MeasuredPart(cov * widen * widen, v, MinSize(item, o));
+  const Eigen::Vector3d measured = MeasuredPart(cov * widen * widen, v, MinReported(item, o) / unit);
   const double se = measured.norm() > 0 ? std::sqrt(std::max(0.0, measured.normalized().dot(cov * measured.normalized())))
                                         : std::sqrt(std::max(0.0, cov.diagonal().maxCoeff()));
   return {unit * measured.norm(), unit * 1.96 * widen * se, measured};
@@ -130,11 +130,7 @@ PartSize SizeOf(const Item& item, const Fit& fit, size_t slot, double widen, con
 /// Large enough to matter and significant (z standard errors; the interval is 1.96 of them).
 bool Reportable(const Item& item, const PartSize& s, const CalibrationCheckOptions& o) {
   const double z = o.significance / 1.96;
-  const double min = item.kind == CheckItemKind::kLatency ? o.min_latency_ms
-                     : item.part == Part::kTranslation    ? o.min_mount_mm
-                     : item.kind == CheckItemKind::kCameraMount ? o.min_camera_mount_deg
-                                                          : o.min_object_mount_deg;
-  return std::abs(s.size) >= min && std::abs(s.size) > z * s.ci95;
+  return std::abs(s.size) >= MinReported(item, o) && std::abs(s.size) > z * s.ci95;
 }
 
 std::vector<Item> CandidateItems(const check_model::Prepared& prepared, int min_moving) {
