@@ -73,9 +73,11 @@ void RefineEstimate(const PointGrid& grid, const CropSource& model, const Valida
 
 /// For an object whose range the depth pushes back (OutlineFrame::range_biased), the estimate fitted
 /// together with that push (validate/range_push.h), and the analysis taken again there.
-void FitRangePush(const PointGrid& grid, const CropSource& model, const ValidateOptions& options, LabelCheck* check) {
+void FitRangePush(const PointGrid& grid, const CropSource& model, const Eigen::Vector3d& tof_center_camera,
+                  const ValidateOptions& options, LabelCheck* check) {
   const ModelCrop crop = model.Crop(check->T_camera_object_segicp);
-  const RangePushFit fit = FitWithRangePush(crop, check->T_camera_object_segicp, grid, options.range_push, options.observability);
+  const RangePushFit fit = FitWithRangePush(crop, check->T_camera_object_segicp, grid, tof_center_camera,
+                                            options.range_push, options.observability);
   // No push found (a box's flat faces each keep one incidence): the rigid fit stands.
   if (fit.iterations == 0 || !(fit.push_m > 0)) return;
   check->T_camera_object_segicp = fit.T_camera_object;
@@ -91,13 +93,15 @@ void Finish(const PointGrid& grid, const Rigid3d& label, const CropSource& model
   check->label_score = ScoreAlignment(label_model.CropPoints(label).points_model, label, grid, options.alignment).score;
   if (check->estimated) {
     RefineEstimate(grid, model, options, made, check);
-    if (outline && outline->range_biased) FitRangePush(grid, model, options, check);
+    if (outline && outline->range_biased) FitRangePush(grid, model, outline->tof_center_camera, options, check);
     // The directions no normal constrains take the outline's estimate and judgement (validate/outline.h).
     // The score stays the fit's: it is taken against the cloud the label's mask cut, which an outline
     // beyond the label's lies partly outside.
+    // A range-biased object's estimate is moved across the ray by the outline only where it stayed the
+    // rigid fit's (no push found).
     if (outline)
-      check->outline = EstimateAlongOutline(*outline, options.outline, options.observability,
-                                            &check->T_camera_object_segicp, &check->observability);
+      check->outline = EstimateAlongOutline(*outline, options.outline, options.observability, &check->T_camera_object_segicp,
+                                            &check->observability, outline->range_biased && !(check->range_push_mm > 0));
     ScoreEstimate(label, options, check);
   }
   DecideVerdict(options.verdict, check);
@@ -278,12 +282,13 @@ void ApplySymmetry(const Rigid3d& T_camera_object_label, const SymmetryAxis& sym
   DecideVerdict(options.verdict, check);
 }
 
-void LeaveOutRange(const Rigid3d& T_camera_object_label, const ValidateOptions& options, LabelCheck* check) {
+void LeaveOutRange(const Rigid3d& T_camera_object_label, const Eigen::Vector3d& tof_center_camera,
+                   const ValidateOptions& options, LabelCheck* check) {
   Observability& ob = check->observability;
   if (!check->estimated || !ob.analysed) return;
   const Rigid3d& T = check->T_camera_object_segicp;
   Eigen::Matrix<double, 6, 1> along_ray;
-  along_ray << Eigen::Vector3d::Zero(), T.rotation().inverse() * (T * ob.center_object).normalized();
+  along_ray << Eigen::Vector3d::Zero(), T.rotation().inverse() * (T * ob.center_object - tof_center_camera).normalized();
   LeaveOutDirection(&ob, along_ray);
   ScoreEstimate(T_camera_object_label, options, check);
   DecideVerdict(options.verdict, check);
@@ -398,7 +403,7 @@ PointCloud ObjectInFrame::SceneCloud() const { return DepthToPointsMasked(depth_
 
 OutlineFrame ObjectInFrame::Outline(const MaskAtLabel& drawn) const {
   return {&depth_m_, &camera_, &mask_, &label_mask_, label_id_, drawn.T_camera_object, &model_, occluder_margin_m_,
-          drawn.range_biased};
+          drawn.range_biased, drawn.tof_center_camera};
 }
 
 std::optional<OccluderCut> CutOccludersAtLabel(const DepthImage& depth_m, const PinholeCamera& camera,

@@ -119,6 +119,7 @@ LabelCheck CheckLabelWithTrack(const PointCloud& scene_camera, const Rigid3d& T_
 struct MaskAtLabel {
   Rigid3d T_camera_object;    ///< where it was drawn: the label as labelled, before a move to the depth's time
   bool range_biased = false;  ///< OutlineFrame::range_biased
+  Eigen::Vector3d tof_center_camera = Eigen::Vector3d::Zero();  ///< OutlineFrame::tof_center_camera
 };
 
 /// From a frame: the object's scene cloud is cut from `depth_m` by `mask == label_id`. Bad input (no
@@ -209,9 +210,12 @@ void ApplySymmetry(const Rigid3d& T_camera_object_label, const SymmetryAxis& sym
 /// A time-of-flight camera measures the range to a reflective surface too long (multipath adds path:
 /// Bhandari et al., "Resolving multipath interference in Kinect"; the SegICP paper's oil bottle on the
 /// Kinect v2), so for an object declared so (objects.yaml `tof_range_biased`) the estimate's translation
-/// along the camera's ray through the analysis centre is not judged; every other direction is. Errors
-/// and verdict are recomputed; the reason says so. No-op without an estimate or an analysis.
-void LeaveOutRange(const Rigid3d& T_camera_object_label, const ValidateOptions& options, LabelCheck* check);
+/// along the time-of-flight camera's ray through the analysis centre is not judged; every other
+/// direction is. That ray starts at `tof_center_camera`, the depth camera's centre in the check's camera
+/// frame (a Kinect v2's depth camera sits beside the colour camera the labels are in). Errors and verdict
+/// are recomputed; the reason says so. No-op without an estimate or an analysis.
+void LeaveOutRange(const Rigid3d& T_camera_object_label, const Eigen::Vector3d& tof_center_camera,
+                   const ValidateOptions& options, LabelCheck* check);
 
 /// The depth image's resolution at an object: the footprint of one depth pixel across the ray and the
 /// smallest change of depth the camera reports along it, metres.

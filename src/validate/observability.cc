@@ -201,12 +201,12 @@ void Probe(const CropSource& model, const ModelCrop& crop, const Rigid3d& T_came
   }
 }
 
+}  // namespace
+
 PointCloud NormalsOf(const ModelCrop& crop, const Rigid3d& T_camera_object, double radius_m) {
   if (crop.normals_model.size() == crop.points_model.size()) return crop.normals_model;
   return EstimateNormals(crop.points_model, radius_m, T_camera_object.inverse().translation());
 }
-
-}  // namespace
 
 std::vector<CropMatch> MatchCrop(const PointCloud& points_model, const Rigid3d& T_camera_object, const PointGrid& scene_camera,
                                  double gate_m, int max_points) {

@@ -123,6 +123,10 @@ PlaneRefinement RefinePointToPlane(const ModelCrop& crop, const Rigid3d& T_camer
                                    const PointGrid& scene_camera, const ObservabilityOptions& options,
                                    double first_gate_m = 0.0, const Observability* probed = nullptr);
 
+/// The crop's normals (object frame): its own, or estimated within `radius_m` and turned toward the
+/// camera at T_camera_object.
+PointCloud NormalsOf(const ModelCrop& crop, const Rigid3d& T_camera_object, double radius_m);
+
 /// A crop point (its index) matched to a scene point (camera frame).
 using CropMatch = std::pair<size_t, Eigen::Vector3d>;
 

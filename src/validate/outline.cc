@@ -269,10 +269,10 @@ OutlineStep SearchAlong(const std::function<double(const Rigid3d&)>& cost, doubl
 /// model's side of the cost alone, which reads neither the label pose nor its mask: the estimate these
 /// moves make owes nothing to the label it is then compared with (the measured surface's side reads the
 /// label run's mask as the model's silhouette).
-std::vector<OutlineStep> MoveAcrossRay(const OutlineCost& cost, const OutlineOptions& options,
-                                       const ObservabilityOptions& observability, const Observability& o,
-                                       Rigid3d* T_camera_object) {
-  const Eigen::Vector3d ray = (*T_camera_object * o.center_object).normalized();
+std::vector<OutlineStep> MoveAcrossRay(const OutlineCost& cost, const Eigen::Vector3d& tof_center_camera,
+                                       const OutlineOptions& options, const ObservabilityOptions& observability,
+                                       const Observability& o, Rigid3d* T_camera_object) {
+  const Eigen::Vector3d ray = (*T_camera_object * o.center_object - tof_center_camera).normalized();
   const Eigen::Vector3d x_camera = Eigen::Vector3d::UnitY().cross(ray).normalized();
   const Eigen::Vector3d across[2] = {x_camera, ray.cross(x_camera)};
   std::vector<OutlineStep> steps;
@@ -292,7 +292,7 @@ std::vector<OutlineStep> MoveAcrossRay(const OutlineCost& cost, const OutlineOpt
 
 std::vector<OutlineStep> EstimateAlongOutline(const OutlineFrame& frame, const OutlineOptions& options,
                                               const ObservabilityOptions& observability, Rigid3d* T_camera_object,
-                                              Observability* o) {
+                                              Observability* o, bool across_ray) {
   std::vector<OutlineStep> steps;
   if (!o->analysed) return steps;
   std::optional<OutlineCost> cost;  // made at the first such direction, at the estimate
@@ -314,9 +314,9 @@ std::vector<OutlineStep> EstimateAlongOutline(const OutlineFrame& frame, const O
     steps.push_back(step);
   }
   SummariseObservability(o);
-  if (frame.range_biased) {
+  if (across_ray) {
     if (!cost) cost.emplace(frame, options, observability, *T_camera_object);
-    const std::vector<OutlineStep> across = MoveAcrossRay(*cost, options, observability, *o, T_camera_object);
+    const std::vector<OutlineStep> across = MoveAcrossRay(*cost, frame.tof_center_camera, options, observability, *o, T_camera_object);
     steps.insert(steps.end(), across.begin(), across.end());
   }
   return steps;

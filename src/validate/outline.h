@@ -34,8 +34,12 @@ struct OutlineFrame {
   const CropSource* model = nullptr;        ///< crops of the whole model (not clipped by the frame)
   double occluder_margin_m = 0.03;          ///< ValidateOptions::occluder_margin_m
   /// The depth's range to this object is biased along the ray (objects.yaml `tof_range_biased` seen by a
-  /// time-of-flight camera): its position across the ray is taken from the outline too (below).
+  /// time-of-flight camera): its estimate is fitted with that push (validate/range_push.h), or, where none
+  /// is found, its position across the ray is taken from the outline too (EstimateAlongOutline).
   bool range_biased = false;
+  /// The time-of-flight camera's centre in `camera`'s frame, where the rays the bias lies along start
+  /// (a Kinect v2's depth camera sits beside its colour camera).
+  Eigen::Vector3d tof_center_camera = Eigen::Vector3d::Zero();
 };
 
 struct OutlineOptions {
@@ -70,14 +74,17 @@ struct OutlineStep {
 /// by the outline alone (replacing the probe's judgement and probe_loss); a turn no normal constrains is
 /// left unjudged. Returns the steps made, one per such slide. `o`'s summary sentences are renewed.
 ///
-/// When `frame.range_biased`, the estimate is then moved across the ray through the analysis centre, along
-/// the image's x and then its y, to the minimum of the model's side of the cost (crop points over no
+/// With `across_ray` (a range-biased object whose estimate is a rigid fit: the range push fit found no
+/// push), the estimate is then moved across the time-of-flight camera's ray through the analysis centre,
+/// along the image's x and then its y, to the minimum of the model's side of the cost (crop points over no
 /// measured surface) wherever that bounds the move both ways (two more steps, `across_ray`). A
 /// time-of-flight camera's multipath error lies in each pixel's range, not in which pixels see the object,
 /// so the outline is not biased where the rigid fit of the deformed surface is (it shifts sideways as well
-/// as back). These moves judge nothing: the directions stay as the analysis found them.
+/// as back). An estimate fitted with its push is not biased that way, and the outline, which loses the
+/// object's grazing pixels, would only add its own error. These moves judge nothing: the directions stay
+/// as the analysis found them.
 std::vector<OutlineStep> EstimateAlongOutline(const OutlineFrame& frame, const OutlineOptions& options,
                                               const ObservabilityOptions& observability, Rigid3d* T_camera_object,
-                                              Observability* o);
+                                              Observability* o, bool across_ray = false);
 
 }  // namespace mocap

@@ -7,7 +7,6 @@
 #include <vector>
 
 #include "core/check.h"
-#include "validate/crop_cache.h"
 
 namespace mocap {
 
@@ -33,15 +32,15 @@ struct PushEquations {
 
 /// The point-to-plane normal equations of the pose (A, b: analysis coordinates about `center`, as
 /// observability.h) and of the push (c: its column against the pose's, d: its own, e: its right-hand
-/// side), robustly weighted means over the matches.
-PushEquations Build(const PointCloud& points, const PointCloud& normals, const Rigid3d& T, double push_m,
-                    const std::vector<CropMatch>& matches, double robust_sigmas) {
+/// side), robustly weighted means over the matches. The push lies along the rays from `tof_center`.
+PushEquations Build(const PointCloud& points, const PointCloud& normals, const Rigid3d& T, const Eigen::Vector3d& tof_center,
+                    double push_m, const std::vector<CropMatch>& matches, double robust_sigmas) {
   PushEquations eq;
   std::tie(eq.center, eq.radius_m) = AnalysisCentre(points, matches);
   const Eigen::Matrix3d R = T.rotation_matrix();
   std::vector<double> residuals, push_column;
   for (const auto& [i, s] : matches) {
-    const Eigen::Vector3d p = T * points[i], n = R * normals[i], u = p.normalized();
+    const Eigen::Vector3d p = T * points[i], n = R * normals[i], u = (p - tof_center).normalized();
     const double cos_theta = std::min(1.0, std::abs(n.dot(u)));
     push_column.push_back((1.0 - cos_theta) * n.dot(u));
     residuals.push_back(n.dot(p - s) + push_m * push_column.back());
@@ -77,17 +76,17 @@ Vector6d StepOf(const Matrix6d& A, const Vector6d& b, double min_information) {
 }  // namespace
 
 RangePushFit FitWithRangePush(const ModelCrop& crop, const Rigid3d& T_camera_object_init, const PointGrid& scene_camera,
-                              const RangePushOptions& options, const ObservabilityOptions& observability) {
+                              const Eigen::Vector3d& tof_center_camera, const RangePushOptions& options,
+                              const ObservabilityOptions& observability) {
   const PointCloud& points = crop.points_model;
-  const PointCloud normals = crop.normals_model.size() == points.size()
-                                 ? crop.normals_model
-                                 : EstimateNormals(points, observability.normal_radius_m, T_camera_object_init.inverse().translation());
+  const PointCloud normals = NormalsOf(crop, T_camera_object_init, observability.normal_radius_m);
   RangePushFit out;
   out.T_camera_object = T_camera_object_init;
   for (int iteration = 0; iteration < options.iterations; ++iteration) {
     const std::vector<CropMatch> matches = MatchCrop(points, out.T_camera_object, scene_camera, options.gate_m, observability.max_points);
     if (matches.size() < 10) return out;
-    const PushEquations eq = Build(points, normals, out.T_camera_object, out.push_m, matches, observability.robust_sigmas);
+    const PushEquations eq =
+        Build(points, normals, out.T_camera_object, tof_center_camera, out.push_m, matches, observability.robust_sigmas);
     if (!(eq.d > 1e-12)) return out;  // every point faces the camera: no deformation to tell apart
     Vector6d step = StepOf(eq.A - eq.c * eq.c.transpose() / eq.d, eq.b - eq.c * (eq.e / eq.d), options.min_information);
     double push_step_m = -(eq.e + eq.c.dot(step)) / eq.d;

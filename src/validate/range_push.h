@@ -6,8 +6,11 @@
 // paper's oil bottle on the Kinect v2 (§V) came back deformed, not just farther. A rigid fit of a deformed
 // surface turns as well as shifts: on a hand-held Kinect v2 the bottle's point-to-plane estimate turned
 // 2-4 deg about its upright axis. Here the depth is modelled as the model's surface moved along each
-// pixel's ray u by push_m (1 - cos theta), theta the incidence angle: nothing where the surface faces the
-// camera, push_m at grazing incidence. That is the form the simulated rig uses (sim/kinect2_model.h), a
+// ray u of the time-of-flight camera by push_m (1 - cos theta), theta the incidence angle on that ray:
+// nothing where the surface faces the camera, push_m at grazing incidence. The rays are the depth
+// camera's, not those of the colour camera the check is in: a Kinect v2's depth camera sits 5 cm beside
+// it, a few degrees' difference at a metre, and a fit along the colour camera's rays left the hand-held
+// bottle 2 deg turned. That is the form the simulated rig uses (sim/kinect2_model.h), a
 // first-order model of the deformation's growth with incidence, not one fitted to a real sensor. The
 // point-to-plane residual of model point p (normal n, camera frame) becomes n.(T p + push (1 - cos theta) u - s):
 // the normal equations gain one column, g = (1 - cos theta) n.u. The push is eliminated (Schur complement)
@@ -43,7 +46,9 @@ struct RangePushFit {
 
 /// Gauss-Newton from `T_camera_object_init` over `crop`'s points (every k-th, keeping at most
 /// observability.max_points) matched within options.gate_m, with observability.robust_sigmas' kernel.
+/// `tof_center_camera`: the depth camera's centre in the check's camera frame (T_color_depth's translation).
 RangePushFit FitWithRangePush(const ModelCrop& crop, const Rigid3d& T_camera_object_init, const PointGrid& scene_camera,
-                              const RangePushOptions& options, const ObservabilityOptions& observability);
+                              const Eigen::Vector3d& tof_center_camera, const RangePushOptions& options,
+                              const ObservabilityOptions& observability);
 
 }  // namespace mocap

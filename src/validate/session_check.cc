@@ -42,6 +42,14 @@ fs::path UserMaskPath(const SessionReader& session, const fs::path& dir, const s
   return dir / (Stem(index) + ".png");
 }
 
+/// How `camera`'s depth reaches its colour image, the rig's calibrated T_color_depth in place of the
+/// manifest's.
+DepthInColor RegistrationOf(const CameraStreamInfo& camera, const SessionCheckOptions& options) {
+  const auto calibrated = options.T_color_depth.find(camera.name);
+  return DepthInColor::Of(camera, camera.color_camera,
+                          calibrated != options.T_color_depth.end() ? std::optional<Rigid3d>(calibrated->second) : std::nullopt);
+}
+
 FrameInputs LoadFrame(const SessionReader& session, const LabelRunView& labels, const std::string& camera, int64_t index,
                       const SessionCheckOptions& options) {
   FrameInputs in;
@@ -53,11 +61,7 @@ FrameInputs LoadFrame(const SessionReader& session, const LabelRunView& labels, 
     try {
       // A sensor whose depth camera sits beside its colour camera (Kinect v2): the labels are in the
       // colour image, so the depth is warped there first, as the labeller does.
-      const auto calibrated = options.T_color_depth.find(camera);
-      const DepthInColor registration = DepthInColor::Of(
-          *info, info->color_camera,
-          calibrated != options.T_color_depth.end() ? std::optional<Rigid3d>(calibrated->second) : std::nullopt);
-      in.depth_m = LoadDepthInColor(session, camera, index, registration);
+      in.depth_m = LoadDepthInColor(session, camera, index, RegistrationOf(*info, options));
     } catch (const InputError& e) {
       in.depth_problem = e.what();
       in.depth_code = VerdictReason::kUnreadableInput;
@@ -126,8 +130,9 @@ struct ObjectModel {
 };
 
 /// How the label run drew record r's mask, for the outline estimate.
-MaskAtLabel DrawnAt(const RecordCheck& r, const ObjectModel& model, const CameraStreamInfo& camera) {
-  return {r.T_camera_object_of_masks(), model.RangeBiasedOn(camera)};
+MaskAtLabel DrawnAt(const RecordCheck& r, const ObjectModel& model, const CameraStreamInfo& camera,
+                    const SessionCheckOptions& options) {
+  return {r.T_camera_object_of_masks(), model.RangeBiasedOn(camera), RegistrationOf(camera, options).T_color_depth.translation()};
 }
 
 ObjectModel LoadModel(const ValidationObject& object, const SessionCheckOptions& options) {
@@ -199,7 +204,7 @@ void CheckFrame(const SessionReader& session, const LabelRunView& labels, const 
     if (!in.depth_problem.empty() || !mask.problem.empty())
       r.check = *InputProblem(in, mask, camera);
     else {
-      const MaskAtLabel drawn = DrawnAt(r, model, info);
+      const MaskAtLabel drawn = DrawnAt(r, model, info, options);
       r.check = CheckLabelInFrame(in.depth_m, camera, *mask.mask, mask.value, r.T_camera_object_label, *model.crops,
                                   model.view_crops, model.options, options.masks_dir.empty() ? &drawn : nullptr);
     }
@@ -254,7 +259,7 @@ void CheckTracked(const FrameInputs& in, const SessionReader& session, const Obj
                                       seed_from_label ? &r.T_camera_object_label : nullptr, &frame_model,
                                       every > 0 && r.index % every == 0);
   // The label run's masks are the models' silhouettes at the labels: the outline estimate reads them so.
-  const OutlineFrame outline_frame = object.Outline(DrawnAt(r, model, info));
+  const OutlineFrame outline_frame = object.Outline(DrawnAt(r, model, info, options));
   const OutlineFrame* outline = options.masks_dir.empty() ? &outline_frame : nullptr;
   r.check = CheckLabelWithTrack(scene, r.T_camera_object_label, frame_model, step, model.thinned_options, label_model,
                                 outline);
@@ -421,7 +426,8 @@ SessionValidation CheckSession(const SessionReader& session, const std::vector<V
     if (camera) ApplyDepthResolution(ResolutionAt(*camera, r.check), options.validate, &r.check);
     if (it->symmetry) ApplySymmetry(r.T_camera_object_label, *it->symmetry, options.validate, &r.check);
     if (it->tof_range_biased && camera && camera->time_of_flight())
-      LeaveOutRange(r.T_camera_object_label, options.validate, &r.check);
+      LeaveOutRange(r.T_camera_object_label, RegistrationOf(*camera, options).T_color_depth.translation(), options.validate,
+                    &r.check);
   }
   out.summary = Summarise(records, labels.total);
   if (records.empty() && skipped > 0)

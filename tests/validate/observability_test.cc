@@ -359,7 +359,7 @@ TEST(Observability, ARangeBiasedObjectIsJudgedAcrossTheRayOnly) {
     const Rigid3d label = Rigid3d::FromRvec(Eigen::Vector3d::Zero(), offset_m) * truth;
     LabelCheck c = CheckLabelInFrame(frame.depth, Kinect(), frame.mask, 4, label, model, {}, options);
     const Verdict before = c.verdict;
-    LeaveOutRange(label, options, &c);
+    LeaveOutRange(label, Eigen::Vector3d::Zero(), options, &c);
     return std::pair{before, c};
   };
   const auto [along_before, along] = check(0.008 * ray);

@@ -37,6 +37,27 @@ inline TriangleMesh BoxMesh(const Eigen::Vector3d& size_m) {
   return mesh;
 }
 
+/// A closed elliptic cylinder (semi-axes a_m along x and b_m along y, height_m along z) centred at the
+/// origin, `segments` facets around.
+inline TriangleMesh EllipticCylinderMesh(double a_m, double b_m, double height_m, int segments = 96) {
+  TriangleMesh mesh;
+  for (int i = 0; i < segments; ++i) {
+    const double t = 2 * M_PI * i / segments;
+    for (const double z : {-0.5 * height_m, 0.5 * height_m}) mesh.vertices.push_back({a_m * std::cos(t), b_m * std::sin(t), z});
+  }
+  const int bottom = static_cast<int>(mesh.vertices.size()), top = bottom + 1;
+  mesh.vertices.push_back({0, 0, -0.5 * height_m});
+  mesh.vertices.push_back({0, 0, 0.5 * height_m});
+  for (int i = 0; i < segments; ++i) {
+    const int j = (i + 1) % segments;
+    mesh.triangles.push_back({2 * i, 2 * j, 2 * j + 1});
+    mesh.triangles.push_back({2 * i, 2 * j + 1, 2 * i + 1});
+    mesh.triangles.push_back({bottom, 2 * j, 2 * i});
+    mesh.triangles.push_back({top, 2 * i + 1, 2 * j + 1});
+  }
+  return mesh;
+}
+
 /// Points on the surface of an axis-aligned box centred at the origin, on a grid of `spacing_m`.
 inline PointCloud BoxSurface(const Eigen::Vector3d& size_m, double spacing_m) {
   PointCloud points;
