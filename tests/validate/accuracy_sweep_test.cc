@@ -98,15 +98,9 @@ class AccuracySweep : public ::testing::TestWithParam<std::string> {
   /// them as the model's silhouette at the label (validate/outline.h).
   sim::CalibrationErrors ObjectMountErrors(double translation_m, double angle_deg, uint32_t seed) const {
     for (const char c : GetParam()) seed = seed * 31 + static_cast<unsigned char>(c);
-    std::mt19937 rng(seed);
-    std::normal_distribution<double> n(0.0, 1.0);
-    sim::CalibrationErrors errors;
-    for (const ValidationObject& o : objects_) {
-      const Eigen::Vector3d axis = Eigen::Vector3d(n(rng), n(rng), n(rng)).normalized();
-      const Eigen::Vector3d dir = Eigen::Vector3d(n(rng), n(rng), n(rng)).normalized();
-      errors.object_mounts.push_back({o.name, dir * translation_m, axis * angle_deg});
-    }
-    return errors;
+    std::vector<std::string> names;
+    for (const ValidationObject& o : objects_) names.push_back(o.name);
+    return testing::ObjectMountErrors(names, translation_m, angle_deg, seed);
   }
   /// What `mocaplabel validate` does: the per-record checks, then the session-wide step.
   SessionValidation Check(const fs::path& labels) const {

@@ -5,8 +5,10 @@
 
 #include <fstream>
 #include <set>
+#include <tuple>
 #include <opencv2/imgcodecs.hpp>
 
+#include "pipeline/session_wide.h"
 #include "session_fixture.h"
 #include "tests/pipeline/label_run_testing.h"
 
@@ -73,12 +75,19 @@ TEST_F(SessionCheckTest, AcceptsCorrectLabelsAndFlagsMountErrorsWithEitherCropSo
   EXPECT_GE(by_renderer.accepted, 0.9);
   EXPECT_NEAR(by_renderer.accepted, correct.accepted, 0.06);
 
-  for (const auto& [name, perturbation] : {std::pair{"1cm", testing::MountError(0.01, 0.0, 3)},
-                                           std::pair{"5deg", testing::MountError(0.0, 5.0, 4)}}) {
-    const fs::path labels = *dir_ / (std::string("L_") + name);
-    testing::WritePerturbedLabels(scene_->labels, labels, perturbation);
-    const testing::Rates wrong = testing::ComputeRates(CheckSession(*session_, scene_->objects, Options(labels)));
+  for (const auto& [name, translation_m, angle_deg, seed] : {std::tuple{"1cm", 0.01, 0.0, 3u}, std::tuple{"5deg", 0.0, 5.0, 4u}}) {
+    const fs::path labels = testing::LabelWithMountErrors(*dir_, name, translation_m, angle_deg, seed);
+    SessionValidation checked = CheckSession(*session_, scene_->objects, Options(labels));
+    const testing::Rates wrong = testing::ComputeRates(checked);
     std::printf("%s mount error: %lld checked, flagged %.3f\n", name, static_cast<long long>(wrong.checked), wrong.flagged);
+    pipeline::FlagSessionWideErrors(checked, scene_->objects, {});
+    std::printf("  with the session-wide step: flagged %.3f;", testing::ComputeRates(checked).flagged);
+    if (checked.summary.session_wide)
+      for (const std::string& finding : checked.summary.session_wide->findings) std::printf(" %s;", finding.c_str());
+    std::printf("\n");
+    for (const RecordCheck& r : checked.records)
+      if (r.check.verdict == Verdict::kAccept)
+        std::printf("  accepted: frame %lld %s: %s\n", static_cast<long long>(r.index), r.name.c_str(), r.check.reason.c_str());
     EXPECT_GE(wrong.flagged, 0.95) << name;
   }
 }

@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <fstream>
+#include <random>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 
@@ -47,6 +48,16 @@ void LinkLabelImages(const fs::path& labels, const fs::path& out_labels) {
     if (entry.is_directory()) fs::create_directory_symlink(fs::absolute(entry.path()), out_labels / entry.path().filename());
 }
 
+/// The labeller's run over the imported scene without depth (`dir`/S_rgb) with `objects`, into `out_dir`.
+void LabelRgbSession(const fs::path& dir, const std::vector<LabelObject>& objects, const fs::path& out_dir) {
+  LabelRunOptions label;
+  label.out_dir = out_dir;
+  label.threads = 2;
+  label.output.write_overlay = true;
+  label.output.write_masks = false;
+  LabelSession(SessionReader::Open(dir / "S_rgb"), objects, LabelRig{}, label);
+}
+
 }  // namespace
 
 fs::path FreshTempDir(const std::string& name) {
@@ -62,13 +73,7 @@ std::vector<ValidationObject> SessionObjects(const fs::path& session_dir) {
 
 BopDepthScene MakeBopDepthScene(const fs::path& dir, const std::vector<int64_t>& frames_without_depth, uint32_t seed) {
   import::ImportBop(kBop / "test/000002", kBop / "models", dir / "S_rgb", BopOptions());
-  LabelRunOptions label;
-  label.out_dir = dir / "L";
-  label.threads = 2;
-  label.output.write_overlay = true;
-  label.output.write_masks = false;
-  const SessionReader rgb_only = SessionReader::Open(dir / "S_rgb");
-  LabelSession(rgb_only, ReadLabelObjects(dir / "S_rgb" / "objects.yaml"), LabelRig{}, label);
+  LabelRgbSession(dir, ReadLabelObjects(dir / "S_rgb" / "objects.yaml"), dir / "L");
 
   // A BOP scene folder with the same images, JSON files and the noisy depth.
   const fs::path scene = dir / "scene";
@@ -93,19 +98,33 @@ BopDepthScene MakeBopDepthScene(const fs::path& dir, const std::vector<int64_t>&
   return {dir / "S", dir / "L", SessionObjects(dir / "S")};
 }
 
-void WritePerturbedLabels(const fs::path& labels, const fs::path& out_labels, const Perturbation& perturb) {
-  fs::create_directories(out_labels);
-  std::ofstream out(out_labels / "labels.jsonl");
-  for (nlohmann::json r : ReadLines(labels / "labels.jsonl")) {
-    if (r.contains("rvec")) {
-      const auto v = [&](const char* f) { return Eigen::Vector3d(r[f][0], r[f][1], r[f][2]); };
-      const Rigid3d T = perturb(Rigid3d::FromRvec(v("rvec"), v("t_m")));
-      r["rvec"] = {T.rvec().x(), T.rvec().y(), T.rvec().z()};
-      r["t_m"] = {T.translation().x(), T.translation().y(), T.translation().z()};
-    }
-    out << r.dump() << '\n';
+sim::CalibrationErrors ObjectMountErrors(const std::vector<std::string>& objects, double translation_m, double angle_deg,
+                                         uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> n(0.0, 1.0);
+  sim::CalibrationErrors errors;
+  for (const std::string& object : objects) {
+    const Eigen::Vector3d axis = Eigen::Vector3d(n(rng), n(rng), n(rng)).normalized();
+    const Eigen::Vector3d dir = Eigen::Vector3d(n(rng), n(rng), n(rng)).normalized();
+    errors.object_mounts.push_back({object, dir * translation_m, axis * angle_deg});
   }
-  LinkLabelImages(labels, out_labels);
+  return errors;
+}
+
+fs::path LabelWithMountErrors(const fs::path& dir, const std::string& name, double translation_m, double angle_deg,
+                              uint32_t seed) {
+  std::vector<LabelObject> objects = ReadLabelObjects(dir / "S_rgb" / "objects.yaml");
+  std::vector<std::string> names;
+  for (const LabelObject& object : objects) names.push_back(object.name);
+  const sim::CalibrationErrors errors = ObjectMountErrors(names, translation_m, angle_deg, seed);
+  for (size_t i = 0; i < objects.size(); ++i) {
+    const auto& e = errors.object_mounts[i];
+    for (BodyMount& mount : objects[i].mounts)
+      mount.T_body_mesh = mount.T_body_mesh * Rigid3d::FromRvec(e.rotation_deg * (M_PI / 180.0), e.translation_m);
+  }
+  const fs::path out = dir / ("L_" + name);
+  LabelRgbSession(dir, objects, out);
+  return out;
 }
 
 void WriteLabelsWithoutObject(const fs::path& labels, const fs::path& out_labels, int object_id) {
@@ -114,16 +133,6 @@ void WriteLabelsWithoutObject(const fs::path& labels, const fs::path& out_labels
   for (const nlohmann::json& r : ReadLines(labels / "labels.jsonl"))
     if (r.value("object", 0) != object_id) out << r.dump() << '\n';
   LinkLabelImages(labels, out_labels);
-}
-
-Perturbation MountError(double translation_m, double angle_deg, uint32_t seed) {
-  auto rng = std::make_shared<std::mt19937>(seed);
-  return [=](const Rigid3d& T_camera_object) {
-    std::normal_distribution<double> n(0.0, 1.0);
-    const Eigen::Vector3d axis = Eigen::Vector3d(n(*rng), n(*rng), n(*rng)).normalized();
-    const Eigen::Vector3d dir = Eigen::Vector3d(n(*rng), n(*rng), n(*rng)).normalized();
-    return T_camera_object * Rigid3d::FromRvec(axis * RadFromDeg(angle_deg), dir * translation_m);
-  };
 }
 
 Rates ComputeRates(const SessionValidation& validation) {

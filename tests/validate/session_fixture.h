@@ -1,14 +1,13 @@
 #pragma once
 // Helpers for session-level validation tests: sessions with measured depth built from real BOP data,
-// labels perturbed on purpose, and the rates the issue asks for. They take any session + label folder,
+// label runs made with mount errors, and the rates the checks are judged by. They take any session + label folder,
 // so a simulated Kinect session (`mocaplabel sim record`, then `mocaplabel label`) plugs in the same way.
 #include <filesystem>
-#include <functional>
-#include <random>
 #include <string>
 #include <vector>
 
 #include "core/rigid3.h"
+#include "sim/scenario.h"
 #include "validate/session_check.h"
 
 namespace mocap::testing {
@@ -32,20 +31,23 @@ struct BopDepthScene {
 BopDepthScene MakeBopDepthScene(const std::filesystem::path& dir, const std::vector<int64_t>& frames_without_depth,
                                 uint32_t seed);
 
-/// Copies a label run's labels.jsonl into `out_labels` with every pose replaced by
-/// perturb(T_camera_object), and links the label images (the masks stay those of the correct labels).
-using Perturbation = std::function<Rigid3d(const Rigid3d& T_camera_object)>;
-void WritePerturbedLabels(const std::filesystem::path& labels, const std::filesystem::path& out_labels,
-                          const Perturbation& perturb);
+/// Every object's mount off by `translation_m` and `angle_deg`, each in its own random direction (drawn
+/// from `seed`, in the order of `objects`): the errors a labeller is given, so that the label run's
+/// masks are drawn at the wrong labels, as a user's wrong mount calibration draws them.
+sim::CalibrationErrors ObjectMountErrors(const std::vector<std::string>& objects, double translation_m, double angle_deg,
+                                         uint32_t seed);
+
+/// MakeBopDepthScene's label run (`dir` as made there) drawn again by the labeller, into `dir`/L_`name`,
+/// with the mount errors of ObjectMountErrors (composed on the body side, T_body_mesh * error, as
+/// sim::ApplyCalibrationErrors does). The outline estimate reads the masks as the model's silhouette at the label (validate/outline.h),
+/// so a mount error whose masks stay the correct labels' is not what a user's session holds.
+std::filesystem::path LabelWithMountErrors(const std::filesystem::path& dir, const std::string& name,
+                                           double translation_m, double angle_deg, uint32_t seed);
 
 /// Copies a label run's labels.jsonl into `out_labels` without the records of object `object_id`, and
 /// links the label images.
 void WriteLabelsWithoutObject(const std::filesystem::path& labels, const std::filesystem::path& out_labels,
                               int object_id);
-
-/// A mount error: T_camera_object * T_object_mount with a fixed translation (metres) and rotation (deg)
-/// about random directions.
-Perturbation MountError(double translation_m, double angle_deg, uint32_t seed);
 
 /// Fractions over the records whose input was usable (an estimate was attempted).
 struct Rates {

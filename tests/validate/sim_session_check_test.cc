@@ -9,6 +9,7 @@
 
 #include <cstdio>
 #include <map>
+#include <tuple>
 
 #include "session_fixture.h"
 #include "pipeline/demo.h"
@@ -123,10 +124,13 @@ TEST_F(SimSessionCheckTest, CorrectLabelsMeetTheAccuracyTargetsAndMountErrorsAre
   EXPECT_LE(good.summary.rotation_angle_error_deg.median, 1.5);
   EXPECT_LE(correct.flagged, 0.05);
 
-  for (const auto& [name, perturbation] : {std::pair{"1cm", testing::MountError(0.01, 0.0, 3)},
-                                           std::pair{"5deg", testing::MountError(0.0, 5.0, 4)}}) {
+  std::vector<std::string> names;
+  for (const ValidationObject& o : *objects_) names.push_back(o.name);
+  for (const auto& [name, translation_m, angle_deg, seed] : {std::tuple{"1cm", 0.01, 0.0, 3u}, std::tuple{"5deg", 0.0, 5.0, 4u}}) {
+    // Labelled with the mounts off, so that the masks are drawn at the wrong labels (a user's session).
     const fs::path labels = *dir_ / (std::string("labels_") + name);
-    testing::WritePerturbedLabels(Labels(), labels, perturbation);
+    const sim::CalibrationErrors errors = testing::ObjectMountErrors(names, translation_m, angle_deg, seed);
+    Label(sim::ApplyCalibrationErrors(record_->truth.true_calibration, errors), labels);
     const SessionValidation checked = Check(labels);
     const testing::Rates all = testing::ComputeRates(checked);
     const auto correct_labels = LabelsByRecord(Labels());
