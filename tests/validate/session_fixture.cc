@@ -41,13 +41,6 @@ void WriteNoisyDepth(const fs::path& exr, const fs::path& png, std::mt19937& rng
   cv::imwrite(png.string(), mm);
 }
 
-/// Links the label run's image folders (one per camera) into another label folder.
-void LinkLabelImages(const fs::path& labels, const fs::path& out_labels) {
-  fs::copy_file(labels / "label_manifest.json", out_labels / "label_manifest.json", fs::copy_options::overwrite_existing);
-  for (const auto& entry : fs::directory_iterator(labels))
-    if (entry.is_directory()) fs::create_directory_symlink(fs::absolute(entry.path()), out_labels / entry.path().filename());
-}
-
 /// The labeller's run over the imported scene without depth (`dir`/S_rgb) with `objects`, into `out_dir`.
 void LabelRgbSession(const fs::path& dir, const std::vector<LabelObject>& objects, const fs::path& out_dir) {
   LabelRunOptions label;
@@ -125,14 +118,6 @@ fs::path LabelWithMountErrors(const fs::path& dir, const std::string& name, doub
   const fs::path out = dir / ("L_" + name);
   LabelRgbSession(dir, objects, out);
   return out;
-}
-
-void WriteLabelsWithoutObject(const fs::path& labels, const fs::path& out_labels, int object_id) {
-  fs::create_directories(out_labels);
-  std::ofstream out(out_labels / "labels.jsonl");
-  for (const nlohmann::json& r : ReadLines(labels / "labels.jsonl"))
-    if (r.value("object", 0) != object_id) out << r.dump() << '\n';
-  LinkLabelImages(labels, out_labels);
 }
 
 Rates ComputeRates(const SessionValidation& validation) {

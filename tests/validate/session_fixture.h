@@ -44,11 +44,6 @@ sim::CalibrationErrors ObjectMountErrors(const std::vector<std::string>& objects
 std::filesystem::path LabelWithMountErrors(const std::filesystem::path& dir, const std::string& name,
                                            double translation_m, double angle_deg, uint32_t seed);
 
-/// Copies a label run's labels.jsonl into `out_labels` without the records of object `object_id`, and
-/// links the label images.
-void WriteLabelsWithoutObject(const std::filesystem::path& labels, const std::filesystem::path& out_labels,
-                              int object_id);
-
 /// Fractions over the records whose input was usable (an estimate was attempted).
 struct Rates {
   int64_t checked = 0;

@@ -1,10 +1,10 @@
 // The session check on a simulated Kinect1 recording (the default scenario's bottle carry; measured
 // depth with the sensor model's noise, quantisation and invalid pixels; a moving camera; a hand that
-// briefly occludes): correct labels meet the accuracy targets, and labels made wrong by a 1 cm or
-// 5 deg object-mount error or by a 50 ms latency error during motion are flagged. The rates are over the
-// scenario's three objects (oil bottle, funnel, engine block); the table is left out because a table top
-// is a plane whose in-plane position the measured depth does not constrain (ICP slides along it; docs/
-// validation.md "Measured").
+// briefly occludes): correct labels meet the accuracy targets, and labels made wrong by a 1 cm or 5 deg
+// object-mount error or by a 50 ms latency error during motion are flagged. The rates are over the
+// scenario's four objects (oil bottle, funnel, engine block, table). A wrong label whose error lies mostly
+// in directions the depth does not constrain (a table slid in its own plane: less than half the error's
+// size left in the judged directions) is counted apart, as "hidden", as the accuracy sweep does.
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -47,13 +47,6 @@ class SimSessionCheckTest : public ::testing::Test {
     objects_ = new std::vector<ValidationObject>(pipeline::ValidationObjectsOf(pipeline::BuiltInLibraryOf(*record_)));
     Label(record_->truth.true_calibration, Labels());
   }
-  /// The table's object id (its records are left out of the checks).
-  static int TableId() {
-    for (const ValidationObject& o : *objects_)
-      if (o.name == "table") return o.id;
-    ADD_FAILURE() << "no table in the scenario's objects";
-    return -1;
-  }
   static void TearDownTestSuite() {
     delete objects_;
     delete session_;
@@ -67,9 +60,7 @@ class SimSessionCheckTest : public ::testing::Test {
     options.out_dir = *dir_;
     options.threads = 2;
     options.context.platform = EglPlatform::kSurfaceless;
-    const fs::path all = out;
-    pipeline::LabelRecording(*record_, calibration, fs::path(all) += "_all", options);
-    testing::WriteLabelsWithoutObject(fs::path(all) += "_all", out, TableId());
+    pipeline::LabelRecording(*record_, calibration, out, options);
   }
   static SessionValidation Check(const fs::path& labels) {
     SessionCheckOptions o;
@@ -88,13 +79,20 @@ sim::RecordResult* SimSessionCheckTest::record_ = nullptr;
 SessionReader* SimSessionCheckTest::session_ = nullptr;
 std::vector<ValidationObject>* SimSessionCheckTest::objects_ = nullptr;
 
-/// How far a label is from the correct label of the same record (modulo the object's symmetry).
-std::pair<double, double> LabelErrorMDeg(const RecordCheck& r, const Rigid3d& correct,
-                                         const std::vector<ValidationObject>& objects) {
+/// How far a label is from the correct label of the same record (modulo the object's symmetry): in all
+/// directions, and in those the record's analysis judged.
+struct LabelError {
+  double m = 0.0, deg = 0.0;
+  ObservedDifference judged;
+  /// Wrong (at least the injected error's size) but mostly in directions the depth does not constrain.
+  bool Hidden() const { return judged.position_mm < 0.5e3 * kWrongPositionM && judged.rotation_deg < 0.5 * kWrongRotationDeg; }
+};
+LabelError LabelErrorOf(const RecordCheck& r, const Rigid3d& correct, const std::vector<ValidationObject>& objects) {
   Rigid3d label = r.T_camera_object_label;
   for (const ValidationObject& o : objects)
     if (o.id == r.object && o.symmetry) label = NearestSymmetricPose(label, correct, *o.symmetry);
-  return {TranslationDistanceM(label, correct), RotationDistanceDeg(label, correct)};
+  return {TranslationDistanceM(label, correct), RotationDistanceDeg(label, correct),
+          ObservedPart(r.check.observability, correct, label)};
 }
 
 std::map<std::pair<int64_t, int>, Rigid3d> LabelsByRecord(const fs::path& labels) {
@@ -118,7 +116,7 @@ TEST_F(SimSessionCheckTest, CorrectLabelsMeetTheAccuracyTargetsAndMountErrorsAre
               good.summary.position_error_mm.median, good.summary.rotation_angle_error_deg.median, good.summary.seconds);
   PrintNotAccepted(good);
   EXPECT_GE(correct.checked, 2 * kFrames);
-  EXPECT_LE(correct.checked, 3 * kFrames);
+  EXPECT_LE(correct.checked, 4 * kFrames);
   EXPECT_GE(correct.success, 0.98);
   EXPECT_LE(good.summary.position_error_mm.median, 3.0);
   EXPECT_LE(good.summary.rotation_angle_error_deg.median, 1.5);
@@ -134,11 +132,19 @@ TEST_F(SimSessionCheckTest, CorrectLabelsMeetTheAccuracyTargetsAndMountErrorsAre
     const SessionValidation checked = Check(labels);
     const testing::Rates all = testing::ComputeRates(checked);
     const auto correct_labels = LabelsByRecord(Labels());
-    int wrong = 0, wrong_flagged = 0;
+    int wrong = 0, wrong_flagged = 0, hidden = 0;
     for (const RecordCheck& r : checked.records) {
       if (IsBadInput(r.check.reason_code)) continue;
-      const auto [error_m, error_deg] = LabelErrorMDeg(r, correct_labels.at({r.index, r.instance}), *objects_);
+      const LabelError error = LabelErrorOf(r, correct_labels.at({r.index, r.instance}), *objects_);
+      const double error_m = error.m, error_deg = error.deg;
       if (error_m < kWrongPositionM && error_deg < kWrongRotationDeg) continue;
+      if (error.Hidden()) {
+        std::printf("  hidden: frame %lld %s, %.1f mm %.1f deg off, %.1f mm %.1f deg of it judged (%d directions): %s\n",
+                    static_cast<long long>(r.index), r.name.c_str(), 1e3 * error_m, error_deg, error.judged.position_mm,
+                    error.judged.rotation_deg, r.check.observability.observable, ToString(r.check.verdict).data());
+        ++hidden;
+        continue;
+      }
       ++wrong;
       wrong_flagged += r.check.verdict != Verdict::kAccept;
       if (r.check.verdict == Verdict::kAccept)
@@ -150,8 +156,8 @@ TEST_F(SimSessionCheckTest, CorrectLabelsMeetTheAccuracyTargetsAndMountErrorsAre
                     ComputePoseErrors(r.check.T_camera_object_segicp, correct_labels.at({r.index, r.instance})).position_mm,
                     ComputePoseErrors(r.check.T_camera_object_segicp, correct_labels.at({r.index, r.instance})).rotation_angle_deg);
     }
-    std::printf("%s mount error: %lld checked, flagged %.3f; %d wrong modulo symmetry, %d of them flagged\n", name,
-                static_cast<long long>(all.checked), all.flagged, wrong, wrong_flagged);
+    std::printf("%s mount error: %lld checked, flagged %.3f; %d wrong modulo symmetry, %d of them flagged, %d more hidden\n",
+                name, static_cast<long long>(all.checked), all.flagged, wrong, wrong_flagged, hidden);
     EXPECT_EQ(all.checked, correct.checked) << name;
     EXPECT_GE(wrong, correct.checked / 2) << name;
     EXPECT_GE(wrong_flagged, 0.95 * wrong) << name;
@@ -166,14 +172,19 @@ TEST_F(SimSessionCheckTest, LabelsMadeWithALatencyErrorAreFlaggedWhereTheMotionM
   // How wrong each late label is: against the correct label of the same frame and instance.
   const auto correct_labels = LabelsByRecord(Labels());
   const SessionValidation checked = Check(late_labels);
-  int wrong = 0, wrong_flagged = 0, right = 0, right_flagged = 0;
+  int wrong = 0, wrong_flagged = 0, hidden = 0, right = 0, right_flagged = 0;
   for (const RecordCheck& r : checked.records) {
     if (IsBadInput(r.check.reason_code)) continue;
     const auto it = correct_labels.find({r.index, r.instance});
     ASSERT_NE(it, correct_labels.end()) << "frame " << r.index << " instance " << r.instance;
-    const auto [error_m, error_deg] = LabelErrorMDeg(r, it->second, *objects_);
+    const LabelError error = LabelErrorOf(r, it->second, *objects_);
+    const double error_m = error.m, error_deg = error.deg;
     const bool flagged = r.check.verdict != Verdict::kAccept;
     if (error_m >= kWrongPositionM || error_deg >= kWrongRotationDeg) {
+      if (error.Hidden()) {
+        ++hidden;
+        continue;
+      }
       ++wrong;
       wrong_flagged += flagged;
       if (!flagged)
@@ -184,8 +195,8 @@ TEST_F(SimSessionCheckTest, LabelsMadeWithALatencyErrorAreFlaggedWhereTheMotionM
       right_flagged += flagged;
     }
   }
-  std::printf("50 ms latency: %d wrong labels (>= 1 cm or 5 deg), %d flagged; %d still correct, %d flagged\n", wrong,
-              wrong_flagged, right, right_flagged);
+  std::printf("50 ms latency: %d wrong labels (>= 1 cm or 5 deg), %d flagged, %d more hidden; %d still correct, %d flagged\n",
+              wrong, wrong_flagged, hidden, right, right_flagged);
   ASSERT_GE(wrong, kFrames / 3) << "the piece should be mid-carry";
   EXPECT_GE(wrong_flagged, 0.95 * wrong);
   EXPECT_LE(right_flagged, 0.05 * right + 1e-9);
