@@ -133,8 +133,7 @@ NormalEquations Build(const PointCloud& points, const PointCloud& normals, const
   double weight_sum = 0;
   for (size_t m = 0; m < matches.size(); ++m) {
     const size_t i = matches[m].first;
-    Vector6d J;
-    J << (points[i] - e.center).cross(normals[i]) / e.radius_m, normals[i];
+    const Vector6d J = AnalysisRow(points[i], normals[i], e.center, e.radius_m);
     const double r = residuals[m], w = weights[m];
     // The upper half of A += w J J^T (the lower half is filled once, below), in the arithmetic of Eigen's
     // rankUpdate, which the compiler kept as a call per point.

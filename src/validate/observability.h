@@ -138,6 +138,16 @@ std::vector<CropMatch> MatchCrop(const PointCloud& points_model, const Rigid3d& 
 /// frame) and RMS radius from it (at least 1 mm). Precondition: `matches` is not empty.
 std::pair<Eigen::Vector3d, double> AnalysisCentre(const PointCloud& points_model, const std::vector<CropMatch>& matches);
 
+/// The point-to-plane row of model point `p` with normal `n` (object frame) in the analysis coordinates
+/// about `center`, the rotation part scaled by `radius_m`: [L w; v] as Observability::directions and
+/// MovedAlong read them.
+inline Eigen::Matrix<double, 6, 1> AnalysisRow(const Eigen::Vector3d& p, const Eigen::Vector3d& n,
+                                               const Eigen::Vector3d& center, double radius_m) {
+  Eigen::Matrix<double, 6, 1> row;
+  row << (p - center).cross(n) / radius_m, n;
+  return row;
+}
+
 /// The judged columns of `o.directions`, in order.
 Eigen::Matrix<double, 6, Eigen::Dynamic> JudgedDirections(const Observability& o);
 

@@ -49,8 +49,7 @@ PushEquations Build(const PointCloud& points, const PointCloud& normals, const R
   double weight_sum = 0;
   for (size_t k = 0; k < matches.size(); ++k) {
     const size_t i = matches[k].first;
-    Vector6d J;
-    J << (points[i] - eq.center).cross(normals[i]) / eq.radius_m, normals[i];
+    const Vector6d J = AnalysisRow(points[i], normals[i], eq.center, eq.radius_m);
     const double w = weights[k], g = push_column[k], r = residuals[k];
     eq.A += w * J * J.transpose();
     eq.b += w * J * r;

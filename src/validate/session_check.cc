@@ -50,6 +50,12 @@ DepthInColor RegistrationOf(const CameraStreamInfo& camera, const SessionCheckOp
                           calibrated != options.T_color_depth.end() ? std::optional<Rigid3d>(calibrated->second) : std::nullopt);
 }
 
+/// Where `camera`'s depth camera sits in its colour optical frame, the check's: the rays a time-of-flight
+/// camera's range bias lies along start there.
+Eigen::Vector3d TofCenterOf(const CameraStreamInfo& camera, const SessionCheckOptions& options) {
+  return RegistrationOf(camera, options).T_color_depth.translation();
+}
+
 FrameInputs LoadFrame(const SessionReader& session, const LabelRunView& labels, const std::string& camera, int64_t index,
                       const SessionCheckOptions& options) {
   FrameInputs in;
@@ -132,7 +138,7 @@ struct ObjectModel {
 /// How the label run drew record r's mask, for the outline estimate.
 MaskAtLabel DrawnAt(const RecordCheck& r, const ObjectModel& model, const CameraStreamInfo& camera,
                     const SessionCheckOptions& options) {
-  return {r.T_camera_object_of_masks(), model.RangeBiasedOn(camera), RegistrationOf(camera, options).T_color_depth.translation()};
+  return {r.T_camera_object_of_masks(), model.RangeBiasedOn(camera), TofCenterOf(camera, options)};
 }
 
 ObjectModel LoadModel(const ValidationObject& object, const SessionCheckOptions& options) {
@@ -426,8 +432,7 @@ SessionValidation CheckSession(const SessionReader& session, const std::vector<V
     if (camera) ApplyDepthResolution(ResolutionAt(*camera, r.check), options.validate, &r.check);
     if (it->symmetry) ApplySymmetry(r.T_camera_object_label, *it->symmetry, options.validate, &r.check);
     if (it->tof_range_biased && camera && camera->time_of_flight())
-      LeaveOutRange(r.T_camera_object_label, RegistrationOf(*camera, options).T_color_depth.translation(), options.validate,
-                    &r.check);
+      LeaveOutRange(r.T_camera_object_label, TofCenterOf(*camera, options), options.validate, &r.check);
   }
   out.summary = Summarise(records, labels.total);
   if (records.empty() && skipped > 0)
